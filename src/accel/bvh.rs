@@ -1,0 +1,249 @@
+//! A bounding-volume hierarchy stored as one flat node array, and its traversals.
+//!
+//! Node 0 is the root. An interior node's children sit next to each other at `first` and
+//! `first + 1`; a leaf holds `count > 0` entries of `prim_order` starting at `first`.
+
+use super::{Closest, Hit, TraversalStats};
+use crate::geometry::PrimHit;
+use crate::math::{Aabb, Ray, Vec3A, safe_inverse};
+
+/// Traversal stack depth; builders stop splitting well before this (depth is checked in `validate`).
+pub(crate) const MAX_DEPTH: usize = 64;
+
+/// One node of the flat array.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Node {
+    /// Tight bounds of everything below.
+    pub bounds: Aabb,
+    /// Interior: index of the left child (right is `first + 1`). Leaf: start in `prim_order`.
+    pub first: u32,
+    /// Number of primitives in a leaf; 0 marks an interior node.
+    pub count: u32,
+}
+
+impl Node {
+    /// True for a leaf.
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+}
+
+/// A built hierarchy. Fields are private: builders establish the invariants `validate` checks.
+#[derive(Clone, Debug)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    prim_order: Vec<u32>,
+}
+
+impl Bvh {
+    /// Wraps a builder's output. An empty primitive list gives an empty hierarchy.
+    pub(crate) fn from_parts(nodes: Vec<Node>, prim_order: Vec<u32>) -> Self {
+        Self { nodes, prim_order }
+    }
+
+    /// The node array (root first).
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// Primitive indices in leaf order.
+    pub fn prim_order(&self) -> &[u32] {
+        &self.prim_order
+    }
+
+    /// The primitives of leaf `node`.
+    #[inline(always)]
+    fn leaf_prims(&self, node: &Node) -> &[u32] {
+        &self.prim_order[node.first as usize..(node.first + node.count) as usize]
+    }
+
+    /// Nearest hit, visiting children front to back and culling with the shrinking `t_max`.
+    pub fn intersect<F>(&self, ray: &Ray, stats: &mut TraversalStats, mut test: F) -> Option<Hit>
+    where
+        F: FnMut(u32, &Ray) -> Option<PrimHit>,
+    {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let origin = Vec3A::from(ray.origin);
+        let inv = safe_inverse(ray.dir);
+        let mut closest = Closest::new(ray);
+        let mut stack = [0u32; MAX_DEPTH + 1];
+        let mut sp = 0;
+        let mut node = &self.nodes[0];
+        stats.nodes_visited += 1;
+        if node
+            .bounds
+            .hit_range(origin, inv, ray.t_min, ray.t_max)
+            .is_none()
+        {
+            return None;
+        }
+        loop {
+            if node.is_leaf() {
+                for &prim in self.leaf_prims(node) {
+                    stats.prim_tests += 1;
+                    if let Some(h) = test(prim, &closest.ray) {
+                        closest.offer(prim, h);
+                    }
+                }
+            } else {
+                let (l, r) = (
+                    &self.nodes[node.first as usize],
+                    &self.nodes[node.first as usize + 1],
+                );
+                stats.nodes_visited += 2;
+                let (t_min, t_max) = (closest.ray.t_min, closest.ray.t_max);
+                let hl = l.bounds.hit_range(origin, inv, t_min, t_max).map(|h| h.0);
+                let hr = r.bounds.hit_range(origin, inv, t_min, t_max).map(|h| h.0);
+                match (hl, hr) {
+                    (Some(a), Some(b)) => {
+                        let (near, far) = if a <= b {
+                            (node.first, node.first + 1)
+                        } else {
+                            (node.first + 1, node.first)
+                        };
+                        stack[sp] = far;
+                        sp += 1;
+                        node = &self.nodes[near as usize];
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        node = l;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        node = r;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            // Pop, skipping subtrees that now lie beyond the best hit.
+            loop {
+                if sp == 0 {
+                    return closest.best;
+                }
+                sp -= 1;
+                let n = &self.nodes[stack[sp] as usize];
+                if n.bounds
+                    .hit_range(origin, inv, closest.ray.t_min, closest.ray.t_max)
+                    .is_some()
+                {
+                    node = n;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Any hit: returns at the first primitive that blocks the ray.
+    pub fn occluded<F>(&self, ray: &Ray, stats: &mut TraversalStats, mut test: F) -> bool
+    where
+        F: FnMut(u32, &Ray) -> bool,
+    {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let origin = Vec3A::from(ray.origin);
+        let inv = safe_inverse(ray.dir);
+        let mut stack = [0u32; MAX_DEPTH + 1];
+        stack[0] = 0;
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let node = &self.nodes[stack[sp] as usize];
+            stats.nodes_visited += 1;
+            if node
+                .bounds
+                .hit_range(origin, inv, ray.t_min, ray.t_max)
+                .is_none()
+            {
+                continue;
+            }
+            if node.is_leaf() {
+                for &prim in self.leaf_prims(node) {
+                    stats.prim_tests += 1;
+                    if test(prim, ray) {
+                        return true;
+                    }
+                }
+            } else {
+                stack[sp] = node.first + 1;
+                stack[sp + 1] = node.first;
+                sp += 2;
+            }
+        }
+        false
+    }
+
+    /// Checks the invariants: every primitive referenced exactly once, children inside their
+    /// parent, every node's box exactly the union of what it holds (tight), depth within the
+    /// traversal stack. Returns a description of the first violation.
+    pub fn validate(&self, prim_bounds: &[Aabb]) -> Result<(), String> {
+        if prim_bounds.is_empty() {
+            return if self.nodes.is_empty() {
+                Ok(())
+            } else {
+                Err("nodes for no primitives".into())
+            };
+        }
+        let mut seen = vec![0u32; prim_bounds.len()];
+        self.validate_node(0, 1, prim_bounds, &mut seen)?;
+        match seen.iter().position(|&c| c != 1) {
+            Some(p) => Err(format!("primitive {p} referenced {} times", seen[p])),
+            None => Ok(()),
+        }
+    }
+
+    fn validate_node(
+        &self,
+        index: u32,
+        depth: usize,
+        prim_bounds: &[Aabb],
+        seen: &mut [u32],
+    ) -> Result<Aabb, String> {
+        if depth > MAX_DEPTH {
+            return Err(format!(
+                "node {index} at depth {depth} exceeds the traversal stack budget"
+            ));
+        }
+        let node = self
+            .nodes
+            .get(index as usize)
+            .ok_or(format!("node {index} out of range"))?;
+        let actual = if node.is_leaf() {
+            let end = (node.first + node.count) as usize;
+            let prims = self
+                .prim_order
+                .get(node.first as usize..end)
+                .ok_or(format!("leaf {index} out of range"))?;
+            let mut b = Aabb::EMPTY;
+            for &p in prims {
+                let pb = prim_bounds
+                    .get(p as usize)
+                    .ok_or(format!("leaf {index}: bad primitive {p}"))?;
+                seen[p as usize] += 1;
+                b = b.union(*pb);
+            }
+            b
+        } else {
+            if node.first <= index {
+                return Err(format!(
+                    "node {index}: child {} does not come after it",
+                    node.first
+                ));
+            }
+            let l = self.validate_node(node.first, depth + 1, prim_bounds, seen)?;
+            let r = self.validate_node(node.first + 1, depth + 1, prim_bounds, seen)?;
+            l.union(r)
+        };
+        if actual != node.bounds {
+            return Err(format!(
+                "node {index}: bounds {:?} are not tight (content {:?})",
+                node.bounds, actual
+            ));
+        }
+        Ok(actual)
+    }
+}

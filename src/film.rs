@@ -1,0 +1,86 @@
+//! The image being rendered: linear premultiplied RGBA plus the AOV layers written to EXR.
+
+use crate::math::{Vec3, Vec4};
+
+/// What the centre ray of one pixel saw, for the depth, normal and id layers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelAov {
+    /// Camera-space depth along the view axis; `f32::INFINITY` where the ray missed.
+    pub depth: f32,
+    /// World-space unit shading normal; zero where missed.
+    pub normal: Vec3,
+    /// Primitive index, -1 where missed.
+    pub prim_id: i32,
+    /// Object index, -1 where missed.
+    pub object_id: i32,
+}
+
+impl PixelAov {
+    /// The value of a pixel whose centre ray hit nothing.
+    pub const MISS: PixelAov = PixelAov {
+        depth: f32::INFINITY,
+        normal: Vec3::ZERO,
+        prim_id: -1,
+        object_id: -1,
+    };
+}
+
+/// A `width x height` image, rows top to bottom. Fields are private so the layers always
+/// have one entry per pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    width: u32,
+    height: u32,
+    rgba: Vec<Vec4>,
+    aov: Vec<PixelAov>,
+}
+
+impl Film {
+    /// A black, transparent film with every AOV at its miss value.
+    pub fn new(width: u32, height: u32) -> Self {
+        let n = width as usize * height as usize;
+        Self {
+            width,
+            height,
+            rgba: vec![Vec4::ZERO; n],
+            aov: vec![PixelAov::MISS; n],
+        }
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Linear premultiplied RGBA, row-major from the top-left.
+    pub fn rgba(&self) -> &[Vec4] {
+        &self.rgba
+    }
+
+    /// Per-pixel AOVs, same layout as `rgba`.
+    pub fn aov(&self) -> &[PixelAov] {
+        &self.aov
+    }
+
+    /// RGBA at pixel `(x, y)`.
+    pub fn pixel(&self, x: u32, y: u32) -> Vec4 {
+        self.rgba[(y * self.width + x) as usize]
+    }
+
+    /// AOV at pixel `(x, y)`.
+    pub fn pixel_aov(&self, x: u32, y: u32) -> PixelAov {
+        self.aov[(y * self.width + x) as usize]
+    }
+
+    /// Stores one finished pixel.
+    pub fn set(&mut self, x: u32, y: u32, rgba: Vec4, aov: PixelAov) {
+        let i = (y * self.width + x) as usize;
+        self.rgba[i] = rgba;
+        self.aov[i] = aov;
+    }
+}

@@ -1,0 +1,176 @@
+//! Indexed triangle meshes: a shared vertex buffer with optional per-vertex normals and UVs.
+
+use crate::math::{Aabb, Mat4, Vec2, Vec3};
+
+/// Why a mesh could not be built.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum MeshError {
+    /// A triangle names a vertex past the end of the buffer.
+    #[error("triangle {tri} uses vertex {index}, but the mesh has only {count} vertices")]
+    IndexOutOfRange {
+        tri: usize,
+        index: u32,
+        count: usize,
+    },
+    /// A position is NaN or infinite.
+    #[error("vertex {0} has a non-finite position")]
+    NonFinitePosition(usize),
+    /// Normals or UVs are given but not one per vertex.
+    #[error("{what} count {got} does not match the vertex count {expected}")]
+    AttributeCount {
+        what: &'static str,
+        got: usize,
+        expected: usize,
+    },
+}
+
+/// A triangle mesh in world space. Fields are private: the constructor checks every index.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    positions: Vec<Vec3>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    indices: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// Builds a mesh, checking that every index is in range, every position is finite and
+    /// every attribute array has one entry per vertex.
+    pub fn new(
+        positions: Vec<Vec3>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+        indices: Vec<[u32; 3]>,
+    ) -> Result<Self, MeshError> {
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFinitePosition(i));
+        }
+        for (tri, idx) in indices.iter().enumerate() {
+            if let Some(&index) = idx.iter().find(|&&i| i as usize >= positions.len()) {
+                return Err(MeshError::IndexOutOfRange {
+                    tri,
+                    index,
+                    count: positions.len(),
+                });
+            }
+        }
+        let check = |what, got: Option<usize>| match got {
+            Some(got) if got != positions.len() => Err(MeshError::AttributeCount {
+                what,
+                got,
+                expected: positions.len(),
+            }),
+            _ => Ok(()),
+        };
+        check("normal", normals.as_ref().map(Vec::len))?;
+        check("uv", uvs.as_ref().map(Vec::len))?;
+        Ok(Self {
+            positions,
+            normals,
+            uvs,
+            indices,
+        })
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// Vertex positions.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// Triangle vertex indices.
+    pub fn indices(&self) -> &[[u32; 3]] {
+        &self.indices
+    }
+
+    /// The three corners of triangle `tri`.
+    #[inline(always)]
+    pub fn corners(&self, tri: u32) -> [Vec3; 3] {
+        let [a, b, c] = self.indices[tri as usize];
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
+    }
+
+    /// Bounding box of triangle `tri`.
+    pub fn triangle_bounds(&self, tri: u32) -> Aabb {
+        Aabb::from_points(self.corners(tri))
+    }
+
+    /// Bounding box of the whole mesh.
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.positions.iter().copied())
+    }
+
+    /// Shading normal at barycentrics `(u, v)` (weights of vertices 1 and 2), if the mesh has normals.
+    pub fn shading_normal(&self, tri: u32, u: f32, v: f32) -> Option<Vec3> {
+        let n = self.normals.as_ref()?;
+        let [a, b, c] = self.indices[tri as usize];
+        let s = n[a as usize] * (1.0 - u - v) + n[b as usize] * u + n[c as usize] * v;
+        Some(s.normalize_or_zero()).filter(|s| *s != Vec3::ZERO)
+    }
+
+    /// Texture coordinate at barycentrics `(u, v)`, or the barycentrics themselves without UVs.
+    pub fn uv(&self, tri: u32, u: f32, v: f32) -> Vec2 {
+        match &self.uvs {
+            Some(uv) => {
+                let [a, b, c] = self.indices[tri as usize];
+                uv[a as usize] * (1.0 - u - v) + uv[b as usize] * u + uv[c as usize] * v
+            }
+            None => Vec2::new(u, v),
+        }
+    }
+
+    /// This mesh moved to world space by `m` (normals by its inverse transpose). A transform with a
+    /// negative determinant flips the winding so faces keep pointing the same way.
+    pub fn transformed(mut self, m: &Mat4) -> Self {
+        for p in &mut self.positions {
+            *p = m.transform_point3(*p);
+        }
+        let normal_m = m.inverse().transpose();
+        if let Some(ns) = &mut self.normals {
+            for n in ns {
+                *n = normal_m.transform_vector3(*n).normalize_or_zero();
+            }
+        }
+        if m.determinant() < 0.0 {
+            for idx in &mut self.indices {
+                idx.swap(1, 2);
+            }
+            // Swapping corners 1 and 2 swaps the barycentric roles; UV/normal lookups use the
+            // same indices, so they stay consistent.
+        }
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_out_of_range_index_and_nan() {
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
+        let err = Mesh::new(p.clone(), None, None, vec![[0, 1, 3]]).unwrap_err();
+        assert_eq!(
+            err,
+            MeshError::IndexOutOfRange {
+                tri: 0,
+                index: 3,
+                count: 3
+            }
+        );
+        let mut bad = p;
+        bad[1].x = f32::NAN;
+        assert_eq!(
+            Mesh::new(bad, None, None, vec![[0, 1, 2]]).unwrap_err(),
+            MeshError::NonFinitePosition(1)
+        );
+    }
+}

@@ -1,0 +1,14 @@
+//! lumis: an offline Whitted-style ray tracer.
+//!
+//! The data flows one way: a scene file is loaded into a [`scene::Scene`], an
+//! [`accel::Accel`] is built over its primitives' bounding boxes, [`render::render`] traces
+//! camera rays through an integrator into a [`film::Film`], and [`output`] writes it.
+
+pub mod accel;
+pub mod camera;
+pub mod film;
+pub mod geometry;
+pub mod light;
+pub mod material;
+pub mod math;
+pub mod scene;

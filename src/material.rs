@@ -1,0 +1,139 @@
+//! Whitted materials: Lambert diffuse, Phong specular, mirror reflection, Fresnel refraction,
+//! emission.
+//!
+//! Outgoing radiance at a hit (documented in the README):
+//! `Le + ambient*kd + sum over unshadowed lights of (kd/pi * cos + ks*(n+2)/(2pi)*cos_r^n) * E
+//!  + reflectivity * L(mirror) + transmission * (F * L(mirror) + (1 - F) * L(refracted))`.
+//!
+//! ```toml
+//! [materials.glass]
+//! diffuse = [0.0, 0.0, 0.0]
+//! transmission = 1.0
+//! ior = 1.5
+//! ```
+
+use crate::math::Vec3;
+
+/// A surface colour that may vary over the surface; procedural kinds arrive with the paper's scenes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texture {
+    /// One colour everywhere (linear RGB).
+    Solid(Vec3),
+}
+
+impl Texture {
+    /// Colour at world point `p` with texture coordinates `uv`.
+    pub fn eval(&self, _p: Vec3, _uv: crate::math::Vec2) -> Vec3 {
+        match self {
+            Texture::Solid(c) => *c,
+        }
+    }
+
+    /// True when the texture is black everywhere.
+    pub fn is_black(&self) -> bool {
+        match self {
+            Texture::Solid(c) => *c == Vec3::ZERO,
+        }
+    }
+}
+
+/// A material. Colours are linear RGB.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Diffuse albedo `kd` in [0,1].
+    pub diffuse: Texture,
+    /// Phong specular colour `ks`.
+    pub specular: Vec3,
+    /// Phong exponent `n` (0 disables the highlight).
+    pub shininess: f32,
+    /// Mirror reflection weight in [0,1].
+    pub reflectivity: f32,
+    /// Transmission weight in [0,1]; the transmitted part is split by Fresnel.
+    pub transmission: f32,
+    /// Index of refraction of the inside (outside is 1).
+    pub ior: f32,
+    /// Emitted radiance.
+    pub emission: Vec3,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            diffuse: Texture::Solid(Vec3::splat(0.8)),
+            specular: Vec3::ZERO,
+            shininess: 0.0,
+            reflectivity: 0.0,
+            transmission: 0.0,
+            ior: 1.5,
+            emission: Vec3::ZERO,
+        }
+    }
+}
+
+impl Material {
+    /// True when the material spawns mirror rays (its own or the reflected part of transmission).
+    pub fn reflects(&self) -> bool {
+        self.reflectivity > 0.0 || self.transmission > 0.0
+    }
+
+    /// True when it spawns refraction rays.
+    pub fn transmits(&self) -> bool {
+        self.transmission > 0.0
+    }
+
+    /// True when direct lighting (and so shadow rays) can contribute.
+    pub fn is_lit(&self) -> bool {
+        !self.diffuse.is_black() || (self.specular != Vec3::ZERO && self.shininess > 0.0)
+    }
+}
+
+/// Unpolarised Fresnel reflectance for a dielectric; `cos_i` is the cosine on the incident side
+/// and `eta` = n_incident / n_transmitted. Returns 1 on total internal reflection.
+pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    0.5 * (rs * rs + rp * rp)
+}
+
+/// Mirror direction of `d` about unit normal `n`.
+pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - n * (2.0 * d.dot(n))
+}
+
+/// Refracted unit direction of unit `d` through a surface with unit normal `n` facing the
+/// incident side, `eta` = n_incident / n_transmitted; `None` on total internal reflection.
+pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_i = -d.dot(n);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
+    if sin2_t >= 1.0 {
+        return None;
+    }
+    Some((d * eta + n * (eta * cos_i - (1.0 - sin2_t).sqrt())).normalize())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fresnel_normal_incidence_glass() {
+        // ((n-1)/(n+1))^2 = 0.04 for n = 1.5, from either side.
+        assert!((fresnel_dielectric(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
+        assert!((fresnel_dielectric(1.0, 1.5) - 0.04).abs() < 1e-6);
+        assert_eq!(fresnel_dielectric(0.1, 1.5), 1.0);
+    }
+
+    #[test]
+    fn snell_holds() {
+        let d = Vec3::new(0.6, -0.8, 0.0);
+        let t = refract(d, Vec3::Y, 1.0 / 1.33).unwrap();
+        assert!((t.x - 0.6 / 1.33).abs() < 1e-6);
+        assert!(refract(Vec3::new(0.9, -0.43589, 0.0).normalize(), Vec3::Y, 1.5).is_none());
+    }
+}

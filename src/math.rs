@@ -1,0 +1,248 @@
+//! Vector types, rays, axis-aligned boxes and the robust origin offset for secondary rays.
+//!
+//! All geometry is world space `f32`; `f64` appears only where an accuracy case needs it
+//! (the triangle test's fallback).
+
+pub use glam::{Mat3, Mat4, Vec2, Vec3, Vec3A, Vec4};
+
+/// A ray `origin + t * dir`, valid for `t_min < t <= t_max` (world space).
+///
+/// `dir` need not be normalised: `t` is measured in units of `dir`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Where the ray starts.
+    pub origin: Vec3,
+    /// Its direction (any non-zero length).
+    pub dir: Vec3,
+    /// Hits at or below this parameter are ignored.
+    pub t_min: f32,
+    /// Hits beyond this parameter are ignored; accelerators shrink it as they find hits.
+    pub t_max: f32,
+}
+
+impl Ray {
+    /// A ray over `(0, inf]`.
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        Self {
+            origin,
+            dir,
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+        }
+    }
+
+    /// A ray over `(0, t_max]`.
+    pub fn segment(origin: Vec3, dir: Vec3, t_max: f32) -> Self {
+        Self {
+            origin,
+            dir,
+            t_min: 0.0,
+            t_max,
+        }
+    }
+
+    /// The point at parameter `t`.
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// An axis-aligned bounding box; `Aabb::EMPTY` is the identity of `union`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Lower corner.
+    pub min: Vec3,
+    /// Upper corner.
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// The empty box: `min = +inf`, `max = -inf`.
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
+
+    /// The box spanning two corners given in any order.
+    pub fn new(a: Vec3, b: Vec3) -> Self {
+        Self {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+
+    /// The smallest box holding every point.
+    pub fn from_points(points: impl IntoIterator<Item = Vec3>) -> Self {
+        points.into_iter().fold(Self::EMPTY, |b, p| b.grow(p))
+    }
+
+    /// This box enlarged to hold `p`.
+    pub fn grow(self, p: Vec3) -> Self {
+        Self {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    /// The smallest box holding both.
+    pub fn union(self, o: Aabb) -> Self {
+        Self {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    /// True when the box holds no point.
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    /// Edge lengths (zero for an empty box).
+    pub fn extent(&self) -> Vec3 {
+        if self.is_empty() {
+            Vec3::ZERO
+        } else {
+            self.max - self.min
+        }
+    }
+
+    /// The centre point.
+    pub fn center(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+
+    /// Surface area (zero for an empty box), used by the SAH.
+    pub fn surface_area(&self) -> f32 {
+        let e = self.extent();
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
+    /// True when `o` lies inside this box (boundaries included).
+    pub fn contains(&self, o: &Aabb) -> bool {
+        self.min.cmple(o.min).all() && self.max.cmpge(o.max).all()
+    }
+
+    /// Index of the longest axis.
+    pub fn longest_axis(&self) -> usize {
+        let e = self.extent();
+        if e.x >= e.y && e.x >= e.z {
+            0
+        } else if e.y >= e.z {
+            1
+        } else {
+            2
+        }
+    }
+
+    /// Entry and exit parameters of `ray` within `[t_min, t_max]`, or `None` when it misses.
+    ///
+    /// `inv_dir` comes from [`safe_inverse`] (finite in every component). The exit
+    /// distance is widened by 2 ulp-scale factors (Ize 2013) so that a box exactly touching a
+    /// hit is never culled by rounding.
+    #[inline(always)]
+    pub fn hit_range(
+        &self,
+        origin: Vec3A,
+        inv_dir: Vec3A,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<(f32, f32)> {
+        let t0 = (Vec3A::from(self.min) - origin) * inv_dir;
+        let t1 = (Vec3A::from(self.max) - origin) * inv_dir;
+        let near = t0.min(t1).max_element().max(t_min);
+        let far = (t0.max(t1).min_element() * ROBUST_BOX_SCALE).min(t_max);
+        (near <= far).then_some((near, far))
+    }
+}
+
+/// The component-wise reciprocal of a direction, with zero components replaced by a tiny
+/// signed value so the result is finite: the slab test then never forms `0 * inf = NaN`.
+pub fn safe_inverse(dir: Vec3) -> Vec3A {
+    let fix = |c: f32| {
+        if c.abs() < 1e-30 {
+            1e-30f32.copysign(c)
+        } else {
+            c
+        }
+    };
+    Vec3A::ONE / Vec3A::new(fix(dir.x), fix(dir.y), fix(dir.z))
+}
+
+/// `1 + 2 * gamma(3)`: the factor that makes the slab test conservative (pbrt-v4, Ize 2013).
+const ROBUST_BOX_SCALE: f32 = 1.0 + 2.0 * gamma(3);
+
+/// The floating-point error bound `n * eps / (1 - n * eps)` (pbrt's gamma_n), with eps = 2^-24.
+pub const fn gamma(n: i32) -> f32 {
+    let e = f32::EPSILON * 0.5;
+    (n as f32 * e) / (1.0 - n as f32 * e)
+}
+
+/// Moves a surface point off the surface along the geometric normal `n`, on the side `dir` points
+/// to, by a distance that scales with the point's magnitude (Ray Tracing Gems, ch. 6).
+///
+/// Rays started from the result neither re-hit the surface they leave (acne) nor skip a nearby
+/// one, at any distance from the origin: the offset is a few float ulps of `p`, not an epsilon.
+pub fn offset_ray_origin(p: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
+    const ORIGIN: f32 = 1.0 / 32.0;
+    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+    const INT_SCALE: f32 = 256.0;
+    let n = if n.dot(dir) < 0.0 { -n } else { n };
+    let of_i = (n * INT_SCALE).as_ivec3();
+    let step = |p: f32, o: i32| {
+        // Adding to the integer bit pattern moves `p` by `o` ulps, away from zero when o and p share a sign.
+        let bits = p.to_bits() as i32;
+        f32::from_bits(bits.wrapping_add(if p < 0.0 { -o } else { o }) as u32)
+    };
+    let p_i = Vec3::new(step(p.x, of_i.x), step(p.y, of_i.y), step(p.z, of_i.z));
+    let pick = |p: f32, p_i: f32, n: f32| {
+        if p.abs() < ORIGIN {
+            p + FLOAT_SCALE * n
+        } else {
+            p_i
+        }
+    };
+    Vec3::new(
+        pick(p.x, p_i.x, n.x),
+        pick(p.y, p_i.y, n.y),
+        pick(p.z, p_i.z, n.z),
+    )
+}
+
+/// An orthonormal basis `(t, b)` completing unit vector `n` (Duff et al. 2017).
+pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1.0f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn offset_moves_to_the_requested_side_at_any_magnitude() {
+        for scale in [1e-3f32, 1.0, 1e3, 1e6, 1e7] {
+            let p = Vec3::new(0.3, -0.7, 0.9) * scale;
+            let n = Vec3::new(0.2, 0.9, -0.1).normalize();
+            let up = offset_ray_origin(p, n, n);
+            let down = offset_ray_origin(p, n, -n);
+            assert!((up - p).dot(n) > 0.0, "scale {scale}");
+            assert!((down - p).dot(n) < 0.0, "scale {scale}");
+        }
+    }
+
+    #[test]
+    fn slab_test_handles_axis_parallel_rays() {
+        let b = Aabb::new(Vec3::ZERO, Vec3::ONE);
+        let o = Vec3A::new(0.5, 0.5, -1.0);
+        let inv = safe_inverse(Vec3::Z);
+        let (near, far) = b.hit_range(o, inv, 0.0, f32::INFINITY).unwrap();
+        assert!((near - 1.0).abs() < 1e-6 && (far - 2.0).abs() < 1e-5);
+        let miss = Vec3A::new(1.5, 0.5, -1.0);
+        assert!(b.hit_range(miss, inv, 0.0, f32::INFINITY).is_none());
+    }
+}

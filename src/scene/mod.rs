@@ -1,0 +1,294 @@
+//! The scene: geometry, the objects that own it, materials, lights, camera and render settings,
+//! plus ray queries through an accelerator and the analysis of which effects it calls for.
+//!
+//! Loaders (one per file format) build a `Scene`; nothing here knows about files.
+
+use crate::accel::{Accel, Hit, TraversalStats};
+use crate::camera::Camera;
+use crate::geometry::{Geometry, SurfacePoint, WatertightRay};
+use crate::light::Light;
+use crate::material::Material;
+use crate::math::{Ray, Vec3};
+
+/// Render settings a scene file may give; CLI flags override them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel along each axis: `spp x spp` stratified samples.
+    pub spp: u32,
+    /// Longest chain of reflection/refraction bounces after the camera ray.
+    pub max_depth: u32,
+    /// Ambient radiance added as `ambient * kd` at every hit.
+    pub ambient: Vec3,
+    /// Radiance of rays that escape (counted as emitted: alpha 1 when non-black).
+    pub background: Vec3,
+    /// Exposure in stops applied to the PNG preview.
+    pub exposure: f32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            width: 640,
+            height: 360,
+            spp: 2,
+            max_depth: 5,
+            ambient: Vec3::splat(0.05),
+            background: Vec3::ZERO,
+            exposure: 0.0,
+        }
+    }
+}
+
+/// A named thing in the scene (a sphere or a mesh) with one material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object {
+    /// Name from the scene file (or generated).
+    pub name: String,
+    /// Index into `Scene::materials`.
+    pub material: u32,
+}
+
+/// Everything needed to render. Fields are private: `SceneBuilder` keeps the primitive →
+/// object → material references valid.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    geometry: Geometry,
+    prim_object: Vec<u32>,
+    objects: Vec<Object>,
+    materials: Vec<Material>,
+    lights: Vec<Light>,
+    camera: Camera,
+    settings: Settings,
+}
+
+/// A hit with its surface geometry and owning object.
+#[derive(Clone, Copy, Debug)]
+pub struct Interaction {
+    /// Ray parameter.
+    pub t: f32,
+    /// Primitive index.
+    pub prim: u32,
+    /// Object index.
+    pub object: u32,
+    /// Surface geometry.
+    pub surface: SurfacePoint,
+}
+
+impl Scene {
+    /// The geometry.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+
+    /// Objects, indexed by object id.
+    pub fn objects(&self) -> &[Object] {
+        &self.objects
+    }
+
+    /// Object owning primitive `prim`.
+    pub fn object_of(&self, prim: u32) -> u32 {
+        self.prim_object[prim as usize]
+    }
+
+    /// Materials.
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// Material of object `object`.
+    pub fn material_of(&self, object: u32) -> &Material {
+        &self.materials[self.objects[object as usize].material as usize]
+    }
+
+    /// Lights.
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// Camera.
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// Render settings.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// Mutable settings, for CLI overrides.
+    pub fn settings_mut(&mut self) -> &mut Settings {
+        &mut self.settings
+    }
+
+    /// Replaces the camera.
+    pub fn set_camera(&mut self, camera: Camera) {
+        self.camera = camera;
+    }
+
+    /// Nearest hit of `ray` through `accel` (built over `self.geometry().prim_bounds()`).
+    pub fn intersect(
+        &self,
+        accel: &Accel,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+    ) -> Option<Interaction> {
+        let wr = WatertightRay::new(ray.dir);
+        let Hit { prim, hit } =
+            accel.intersect(ray, stats, |p, r| self.geometry.intersect(p, r, &wr))?;
+        let mut hit_ray = *ray;
+        hit_ray.t_max = hit.t;
+        Some(Interaction {
+            t: hit.t,
+            prim,
+            object: self.object_of(prim),
+            surface: self.geometry.surface(prim, &hit_ray, &hit),
+        })
+    }
+
+    /// True when something blocks `ray` within `(t_min, t_max]`.
+    pub fn occluded(&self, accel: &Accel, ray: &Ray, stats: &mut TraversalStats) -> bool {
+        let wr = WatertightRay::new(ray.dir);
+        accel.occluded(ray, stats, |p, r| {
+            self.geometry.intersect(p, r, &wr).is_some()
+        })
+    }
+
+    /// Which ray kinds this scene can ever spawn; the integrator skips the rest.
+    pub fn effects(&self) -> Effects {
+        let used = |f: &dyn Fn(&Material) -> bool| {
+            self.objects
+                .iter()
+                .any(|o| f(&self.materials[o.material as usize]))
+        };
+        Effects {
+            shadows: !self.lights.is_empty() && used(&Material::is_lit),
+            reflection: self.settings.max_depth > 0 && used(&Material::reflects),
+            refraction: self.settings.max_depth > 0 && used(&Material::transmits),
+            depth_of_field: self.camera.has_depth_of_field(),
+        }
+    }
+}
+
+/// The effects a scene calls for. Whatever is false here is never simulated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Effects {
+    /// Some lit material and at least one light: shadow rays are traced.
+    pub shadows: bool,
+    /// Some material reflects (mirror or Fresnel): reflection rays are traced.
+    pub reflection: bool,
+    /// Some material transmits: refraction rays are traced.
+    pub refraction: bool,
+    /// The camera has a lens aperture.
+    pub depth_of_field: bool,
+}
+
+/// Assembles a [`Scene`], checking every reference as it goes.
+#[derive(Clone, Debug)]
+pub struct SceneBuilder {
+    geometry: Geometry,
+    prim_object: Vec<u32>,
+    objects: Vec<Object>,
+    materials: Vec<Material>,
+    lights: Vec<Light>,
+    settings: Settings,
+}
+
+impl Default for SceneBuilder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl SceneBuilder {
+    /// An empty scene with default settings.
+    pub fn new() -> Self {
+        Self {
+            geometry: Geometry::new(),
+            prim_object: Vec::new(),
+            objects: Vec::new(),
+            materials: Vec::new(),
+            lights: Vec::new(),
+            settings: Settings::default(),
+        }
+    }
+
+    /// Adds a material; returns its index.
+    pub fn add_material(&mut self, m: Material) -> u32 {
+        self.materials.push(m);
+        self.materials.len() as u32 - 1
+    }
+
+    /// Adds a light.
+    pub fn add_light(&mut self, l: Light) {
+        self.lights.push(l);
+    }
+
+    /// Number of materials so far.
+    pub fn material_count(&self) -> usize {
+        self.materials.len()
+    }
+
+    /// Adds a sphere object with material `material` (must exist); returns the object id.
+    pub fn add_sphere(
+        &mut self,
+        name: impl Into<String>,
+        s: crate::geometry::Sphere,
+        material: u32,
+    ) -> u32 {
+        assert!(
+            (material as usize) < self.materials.len(),
+            "material {material} not added yet"
+        );
+        self.geometry.add_sphere(s);
+        self.push_object(name.into(), material, 1)
+    }
+
+    /// Adds a mesh object with material `material` (must exist); returns the object id.
+    pub fn add_mesh(
+        &mut self,
+        name: impl Into<String>,
+        m: crate::geometry::Mesh,
+        material: u32,
+    ) -> u32 {
+        assert!(
+            (material as usize) < self.materials.len(),
+            "material {material} not added yet"
+        );
+        let n = self.geometry.add_mesh(m).len();
+        self.push_object(name.into(), material, n)
+    }
+
+    fn push_object(&mut self, name: String, material: u32, prims: usize) -> u32 {
+        let id = self.objects.len() as u32;
+        self.objects.push(Object { name, material });
+        self.prim_object.extend(std::iter::repeat_n(id, prims));
+        id
+    }
+
+    /// Settings to edit.
+    pub fn settings_mut(&mut self) -> &mut Settings {
+        &mut self.settings
+    }
+
+    /// Bounds of the geometry added so far (for automatic cameras).
+    pub fn bounds(&self) -> crate::math::Aabb {
+        self.geometry.bounds()
+    }
+
+    /// Finishes the scene with its camera.
+    pub fn build(self, camera: Camera) -> Scene {
+        Scene {
+            geometry: self.geometry,
+            prim_object: self.prim_object,
+            objects: self.objects,
+            materials: self.materials,
+            lights: self.lights,
+            camera,
+            settings: self.settings,
+        }
+    }
+}
