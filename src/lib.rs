@@ -12,3 +12,7 @@ pub mod light;
 pub mod material;
 pub mod math;
 pub mod scene;
+pub mod integrator;
+pub mod render;
+pub mod rng;
+pub mod stats;

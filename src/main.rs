@@ -1,1 +1,154 @@
-fn main() {}
+//! The `lumis` command line: `lumis [render] [SCENE] ...`.
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Parser, Subcommand};
+use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::output::{ExrMetadata, write_by_extension};
+use lumis::render::{RenderOptions, render};
+use lumis::stats::{PhaseTimes, summary};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// lumis: an offline Whitted-style ray tracer.
+#[derive(Parser, Debug)]
+#[command(version, about, args_conflicts_with_subcommands = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    /// With no subcommand, `lumis [SCENE] [OPTIONS]` renders, like `lumis render`.
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render a scene (the default scene when none is given) to EXR and/or PNG.
+    Render(RenderArgs),
+}
+
+#[derive(Args, Debug)]
+struct RenderArgs {
+    /// Scene file (.toml); the built-in default scene when omitted.
+    scene: Option<PathBuf>,
+    /// Output image; the format follows the extension (.exr or .png). Default: out.exr and out.png.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Also write a PNG preview here.
+    #[arg(long)]
+    png: Option<PathBuf>,
+    /// Image width (overrides the scene).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height (overrides the scene).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Samples per pixel along each axis: N gives NxN stratified samples.
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Maximum reflection/refraction depth.
+    #[arg(long)]
+    max_depth: Option<u32>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Seed of the sample streams.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Acceleration structure.
+    #[arg(long, value_enum, default_value_t = AccelKind::Sah)]
+    accel: AccelKind,
+    /// Largest leaf of the hierarchies.
+    #[arg(long, default_value_t = BuildOptions::default().max_leaf_size)]
+    leaf_size: usize,
+    /// Write 32-bit float RGBA to EXR instead of half.
+    #[arg(long)]
+    float: bool,
+    /// No progress bar and no summary.
+    #[arg(short, long)]
+    quiet: bool,
+    /// Add traversal counters and the effect analysis to the summary.
+    #[arg(long)]
+    stats: bool,
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Some(Command::Render(args)) => run_render(args),
+        None => run_render(&cli.render),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run_render(args: &RenderArgs) -> Result<()> {
+    let mut times = PhaseTimes::default();
+    let t = Instant::now();
+    let mut scene = match &args.scene {
+        Some(path) => lumis::scene::load(path)?,
+        None => lumis::scene::default_scene().context("loading the built-in default scene")?,
+    };
+    let st = scene.settings_mut();
+    st.width = args.width.unwrap_or(st.width);
+    st.height = args.height.unwrap_or(st.height);
+    st.spp = args.spp.unwrap_or(st.spp);
+    st.max_depth = args.max_depth.unwrap_or(st.max_depth);
+    if args.leaf_size == 0 {
+        bail!("--leaf-size must be at least 1");
+    }
+    let outputs = output_paths(args)?;
+    times.load = t.elapsed();
+
+    let t = Instant::now();
+    let accel = Accel::build(args.accel, &scene.geometry().prim_bounds(), &BuildOptions { max_leaf_size: args.leaf_size });
+    times.build = t.elapsed();
+
+    let t = Instant::now();
+    let show_progress = !args.quiet && std::io::stderr().is_terminal();
+    let opts = RenderOptions { seed: args.seed, threads: args.threads, progress: show_progress };
+    let rendered = render(&scene, &accel, &opts)?;
+    times.render = t.elapsed();
+
+    let t = Instant::now();
+    let meta = ExrMetadata { float_rgba: args.float, spp: scene.settings().spp.pow(2), render_seconds: times.render.as_secs_f32() };
+    for path in &outputs {
+        write_by_extension(path, &rendered.film, scene.camera(), &meta, scene.settings().exposure)?;
+    }
+    times.write = t.elapsed();
+
+    if !args.quiet {
+        for path in &outputs {
+            eprintln!("wrote {}", path.display());
+        }
+        eprint!("{}", summary(&times, &rendered.counts, &scene.effects(), args.stats));
+    }
+    Ok(())
+}
+
+/// The files to write: `-o` and `--png` when given, otherwise `out.exr` and `out.png`.
+fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
+    let mut paths: Vec<PathBuf> = args.output.iter().chain(&args.png).cloned().collect();
+    if args.output.is_none() {
+        paths.insert(0, PathBuf::from("out.exr"));
+        if args.png.is_none() {
+            paths.push(PathBuf::from("out.png"));
+        }
+    }
+    if let Some(png) = &args.png
+        && !has_extension(png, "png")
+    {
+        bail!("--png {}: the file name must end in .png", png.display());
+    }
+    // Checked before rendering so a typo does not cost a whole render.
+    if let Some(bad) = paths.iter().find(|p| !has_extension(p, "exr") && !has_extension(p, "png")) {
+        bail!("{}: unknown output format; expected a file name ending in .exr or .png", bad.display());
+    }
+    Ok(paths)
+}
+
+fn has_extension(p: &Path, ext: &str) -> bool {
+    p.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case(ext))
+}

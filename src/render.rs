@@ -1,0 +1,171 @@
+//! Drives the integrator over the image: rayon over 16x16 tiles, stratified jittered samples,
+//! a progress bar, and the only place the film is written.
+
+use crate::accel::Accel;
+use crate::film::{Film, PixelAov};
+use crate::integrator::{RayCounts, Whitted};
+use crate::math::{Ray, Vec2, Vec4};
+use crate::rng::SampleRng;
+use crate::scene::Scene;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+
+const TILE: u32 = 16;
+
+/// How to render.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RenderOptions {
+    /// Seed of every sample's random stream.
+    pub seed: u64,
+    /// Worker threads (`None`: one per core).
+    pub threads: Option<usize>,
+    /// Draw a progress bar on stderr (only when stderr is a terminal).
+    pub progress: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self { seed: 0, threads: None, progress: false }
+    }
+}
+
+/// A finished render.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// The image and its AOV layers.
+    pub film: Film,
+    /// Rays traced, by kind.
+    pub counts: RayCounts,
+}
+
+/// Why a render could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// The image has no pixels.
+    #[error("image size {0}x{1} has no pixels")]
+    EmptyImage(u32, u32),
+    /// No samples per pixel.
+    #[error("samples per pixel must be at least 1")]
+    NoSamples,
+    /// The thread pool could not start.
+    #[error("could not start {0} worker threads: {1}")]
+    Threads(usize, String),
+}
+
+struct TileResult {
+    x0: u32,
+    y0: u32,
+    w: u32,
+    pixels: Vec<(Vec4, PixelAov)>,
+    counts: RayCounts,
+}
+
+/// Renders `scene` through `accel` (built over `scene.geometry().prim_bounds()`).
+/// The image and the ray counts are identical for any thread count.
+pub fn render(scene: &Scene, accel: &Accel, opts: &RenderOptions) -> Result<Rendered, RenderError> {
+    let st = scene.settings();
+    let (width, height) = (st.width, st.height);
+    if width == 0 || height == 0 {
+        return Err(RenderError::EmptyImage(width, height));
+    }
+    if st.spp == 0 {
+        return Err(RenderError::NoSamples);
+    }
+    let tiles: Vec<(u32, u32)> =
+        (0..height.div_ceil(TILE)).flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE))).collect();
+    let bar = progress_bar(tiles.len() as u64, opts.progress);
+    let integrator = Whitted::new(scene, accel);
+    let run = || -> Vec<TileResult> {
+        tiles
+            .par_iter()
+            .map(|&(x0, y0)| {
+                let tile = render_tile(scene, &integrator, opts.seed, x0, y0);
+                bar.inc(1);
+                tile
+            })
+            .collect()
+    };
+    let results = match opts.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| RenderError::Threads(n, e.to_string()))?
+            .install(run),
+        None => run(),
+    };
+    bar.finish_and_clear();
+    let mut film = Film::new(width, height);
+    let mut counts = RayCounts::default();
+    for t in results {
+        counts += t.counts;
+        for (i, (rgba, aov)) in t.pixels.into_iter().enumerate() {
+            film.set(t.x0 + i as u32 % t.w, t.y0 + i as u32 / t.w, rgba, aov);
+        }
+    }
+    Ok(Rendered { film, counts })
+}
+
+fn progress_bar(len: u64, enabled: bool) -> ProgressBar {
+    if !enabled {
+        return ProgressBar::hidden();
+    }
+    // indicatif's stderr target draws nothing when stderr is not a terminal.
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template("{spinner} rendering [{bar:40}] {percent:>3}% tiles {pos}/{len} ETA {eta}") {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
+fn render_tile(scene: &Scene, integrator: &Whitted, seed: u64, x0: u32, y0: u32) -> TileResult {
+    let st = scene.settings();
+    let (x1, y1) = ((x0 + TILE).min(st.width), (y0 + TILE).min(st.height));
+    let mut counts = RayCounts::default();
+    let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+    for y in y0..y1 {
+        for x in x0..x1 {
+            pixels.push(render_pixel(scene, integrator, seed, x, y, &mut counts));
+        }
+    }
+    TileResult { x0, y0, w: x1 - x0, pixels, counts }
+}
+
+/// `spp x spp` stratified samples (each jittered in its stratum, with its own lens sample),
+/// box-filtered; plus one pinhole ray through the pixel centre for the AOV layers.
+fn render_pixel(scene: &Scene, integrator: &Whitted, seed: u64, x: u32, y: u32, counts: &mut RayCounts) -> (Vec4, PixelAov) {
+    let st = scene.settings();
+    let cam = scene.camera();
+    let n = st.spp;
+    let mut sum = Vec4::ZERO;
+    for s in 0..n * n {
+        let mut rng = SampleRng::new(seed, x, y, s);
+        let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
+        let stratum = Vec2::new((s % n) as f32, (s / n) as f32);
+        let film = Vec2::new(x as f32, y as f32) + (stratum + jitter) / n as f32;
+        let lens = Vec2::new(rng.next_f32(), rng.next_f32());
+        let sample = integrator.camera_ray(&cam.ray(film, st.width, st.height, lens), counts);
+        sum += sample.radiance.extend(if sample.opaque { 1.0 } else { 0.0 });
+    }
+    let rgba = sum / (n * n) as f32;
+    (rgba, centre_aov(scene, integrator, x, y, counts))
+}
+
+/// What the pinhole ray through the centre of pixel `(x, y)` hits: exactly the ray a compositor
+/// rebuilds from the EXR's `worldToNDC`.
+fn centre_aov(scene: &Scene, integrator: &Whitted, x: u32, y: u32, counts: &mut RayCounts) -> PixelAov {
+    let st = scene.settings();
+    let cam = scene.camera();
+    let dir = cam.pinhole_dir(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), st.width, st.height);
+    counts.aov += 1;
+    match scene.intersect(integrator.accel(), &Ray::new(cam.position(), dir), &mut counts.traversal) {
+        None => PixelAov::MISS,
+        // The normal is reported as the surface defines it (outward / winding), not flipped
+        // towards the camera, so it compares directly with other engines' normals.
+        Some(hit) => PixelAov {
+                depth: (hit.surface.p - cam.position()).dot(cam.forward()),
+                normal: hit.surface.ns,
+                prim_id: hit.prim as i32,
+                object_id: hit.object as i32,
+            },
+    }
+}

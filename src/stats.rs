@@ -1,0 +1,56 @@
+//! The end-of-run summary: time per phase, rays by kind, throughput.
+
+use crate::integrator::RayCounts;
+use crate::scene::Effects;
+use std::fmt::Write as _;
+use std::time::Duration;
+
+/// Wall time of each phase of a run.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PhaseTimes {
+    /// Reading and parsing the scene.
+    pub load: Duration,
+    /// Building the accelerator.
+    pub build: Duration,
+    /// Tracing.
+    pub render: Duration,
+    /// Encoding and writing images.
+    pub write: Duration,
+}
+
+/// Formats the summary; `detailed` adds traversal counters and the effect analysis.
+pub fn summary(times: &PhaseTimes, counts: &RayCounts, effects: &Effects, detailed: bool) -> String {
+    let secs = |d: Duration| d.as_secs_f64();
+    let total = counts.total();
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "time: load {:.3}s, build {:.3}s, render {:.3}s, write {:.3}s",
+        secs(times.load),
+        secs(times.build),
+        secs(times.render),
+        secs(times.write)
+    );
+    let _ = writeln!(
+        s,
+        "rays: {total} total = camera {} + aov {} + shadow {} + reflection {} + refraction {}",
+        counts.camera, counts.aov, counts.shadow, counts.reflection, counts.refraction
+    );
+    let mrays = total as f64 / secs(times.render).max(1e-9) / 1e6;
+    let _ = writeln!(s, "speed: {mrays:.2} Mrays/s");
+    if detailed {
+        let per = |x: u64| x as f64 / total.max(1) as f64;
+        let _ = writeln!(
+            s,
+            "traversal: {:.2} nodes visited/ray, {:.2} primitive tests/ray",
+            per(counts.traversal.nodes_visited),
+            per(counts.traversal.prim_tests)
+        );
+        let _ = writeln!(
+            s,
+            "effects: shadows {}, reflection {}, refraction {}, depth of field {}",
+            effects.shadows, effects.reflection, effects.refraction, effects.depth_of_field
+        );
+    }
+    s
+}
