@@ -22,10 +22,31 @@ pub struct Camera {
     right: Vec3,
     /// Unit up vector of the image.
     up: Vec3,
-    /// `tan(vfov / 2)`.
+    /// `tan(fov / 2)` along `fov_axis`.
     tan_half_fov: f32,
-    aperture: f32,
+    fov_axis: FovAxis,
+    lens: Lens,
     focus_distance: f32,
+}
+
+/// Which image axis the field of view spans; the other follows from the aspect ratio.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FovAxis {
+    /// The usual convention (pbrt's for landscape images, Blender's "vertical" fit).
+    Vertical,
+    /// The `.scn` convention: `cameraScreenWidth` fixes the horizontal extent.
+    Horizontal,
+}
+
+/// The lens aperture shape, in world units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lens {
+    /// No depth of field.
+    Pinhole,
+    /// A thin lens of this radius.
+    Disk(f32),
+    /// The `.scn` "dispersion": the ray origin moves by `[0, size)` along right and up.
+    Square(f32),
 }
 
 /// Why a camera could not be built.
@@ -69,15 +90,43 @@ impl Camera {
         if !(aperture >= 0.0 && focus_distance > 0.0 && focus_distance.is_finite()) {
             return Err(CameraError::BadLens);
         }
+        let lens = if aperture > 0.0 { Lens::Disk(aperture) } else { Lens::Pinhole };
         Ok(Self {
             position,
             forward,
             right,
             up: right.cross(forward),
             tan_half_fov: (fov_deg.to_radians() * 0.5).tan(),
-            aperture,
+            fov_axis: FovAxis::Vertical,
+            lens,
             focus_distance,
         })
+    }
+
+    /// The same camera with its field of view measured along `axis`.
+    pub fn with_fov_axis(mut self, axis: FovAxis) -> Self {
+        self.fov_axis = axis;
+        self
+    }
+
+    /// The same camera with another lens (the focus distance is kept).
+    pub fn with_lens(mut self, lens: Lens) -> Self {
+        self.lens = lens;
+        self
+    }
+
+    /// `tan` of the half field of view along x and y for a `width x height` image.
+    fn tan_half_xy(&self, width: u32, height: u32) -> (f32, f32) {
+        let aspect = width as f32 / height as f32;
+        match self.fov_axis {
+            FovAxis::Vertical => (self.tan_half_fov * aspect, self.tan_half_fov),
+            FovAxis::Horizontal => (self.tan_half_fov, self.tan_half_fov / aspect),
+        }
+    }
+
+    /// The lens.
+    pub fn lens(&self) -> Lens {
+        self.lens
     }
 
     /// Camera position.
@@ -92,28 +141,29 @@ impl Camera {
 
     /// True when the lens has a non-zero radius.
     pub fn has_depth_of_field(&self) -> bool {
-        self.aperture > 0.0
+        !matches!(self.lens, Lens::Pinhole | Lens::Disk(0.0) | Lens::Square(0.0))
     }
 
     /// The ray through film position `film` (pixels, `(0,0)` = top-left corner of the image,
     /// `(w,h)` = bottom-right) from lens sample `lens` in `[0,1)^2`.
     pub fn ray(&self, film: Vec2, width: u32, height: u32, lens: Vec2) -> Ray {
         let dir = self.pinhole_dir(film, width, height);
-        if self.aperture <= 0.0 {
-            return Ray::new(self.position, dir);
-        }
+        let d = match self.lens {
+            Lens::Pinhole => return Ray::new(self.position, dir),
+            Lens::Disk(radius) => concentric_disk(lens) * radius,
+            Lens::Square(size) => lens * size,
+        };
         // Thin lens: every ray through the lens meets the pinhole ray on the focus plane.
         let focus = self.position + dir * (self.focus_distance / dir.dot(self.forward));
-        let d = concentric_disk(lens) * self.aperture;
         let origin = self.position + self.right * d.x + self.up * d.y;
         Ray::new(origin, (focus - origin).normalize())
     }
 
     /// Unit direction of the pinhole ray through a film position (see [`Camera::ray`]).
     pub fn pinhole_dir(&self, film: Vec2, width: u32, height: u32) -> Vec3 {
-        let aspect = width as f32 / height as f32;
-        let sx = (2.0 * film.x / width as f32 - 1.0) * self.tan_half_fov * aspect;
-        let sy = (1.0 - 2.0 * film.y / height as f32) * self.tan_half_fov;
+        let (tx, ty) = self.tan_half_xy(width, height);
+        let sx = (2.0 * film.x / width as f32 - 1.0) * tx;
+        let sy = (1.0 - 2.0 * film.y / height as f32) * ty;
         (self.forward + self.right * sx + self.up * sy).normalize()
     }
 
@@ -133,9 +183,8 @@ impl Camera {
     /// `(0,0)` the top-left and `(1,1)` the bottom-right corner of the display window, `z` the
     /// reciprocal of the camera-space depth. Column-vector form.
     pub fn world_to_ndc(&self, width: u32, height: u32) -> Mat4 {
-        let aspect = width as f32 / height as f32;
-        let sx = 1.0 / (self.tan_half_fov * aspect);
-        let sy = 1.0 / self.tan_half_fov;
+        let (tx, ty) = self.tan_half_xy(width, height);
+        let (sx, sy) = (1.0 / tx, 1.0 / ty);
         // Camera (x, y, z) -> clip (x', y', z', w) with ndc = clip.xyz / z.
         let cam_to_ndc = Mat4::from_cols(
             Vec4::new(0.5 * sx, 0.0, 0.0, 0.0),

@@ -21,6 +21,8 @@ use crate::math::Vec3;
 pub enum Light {
     /// Isotropic point source; `intensity` is colour times radiant intensity.
     Point { position: Vec3, intensity: Vec3 },
+    /// A point source whose irradiance does not fall off with distance: the `.scn` lights.
+    Unattenuated { position: Vec3, irradiance: Vec3 },
     /// Infinitely distant source; `direction` is the unit direction light travels,
     /// `irradiance` is colour times irradiance at normal incidence.
     Directional { direction: Vec3, irradiance: Vec3 },
@@ -53,6 +55,11 @@ impl Light {
                     distance,
                     irradiance: *intensity / dist2,
                 }
+            }
+            Light::Unattenuated { position, irradiance } => {
+                let d = *position - p;
+                let distance = d.length().max(f32::MIN_POSITIVE);
+                LightSample { wi: d / distance, distance, irradiance: *irradiance }
             }
             Light::Directional {
                 direction,

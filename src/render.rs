@@ -130,23 +130,27 @@ fn render_tile(scene: &Scene, integrator: &Whitted, seed: u64, x0: u32, y0: u32)
     TileResult { x0, y0, w: x1 - x0, pixels, counts }
 }
 
-/// `spp x spp` stratified samples (each jittered in its stratum, with its own lens sample),
-/// box-filtered; plus one pinhole ray through the pixel centre for the AOV layers.
+/// `spp x spp` stratified samples (each jittered in its stratum), each traced through
+/// `lens_samples` lens positions when the camera has depth of field, box-filtered; plus one
+/// pinhole ray through the pixel centre for the AOV layers.
 fn render_pixel(scene: &Scene, integrator: &Whitted, seed: u64, x: u32, y: u32, counts: &mut RayCounts) -> (Vec4, PixelAov) {
     let st = scene.settings();
     let cam = scene.camera();
     let n = st.spp;
+    let lens_samples = if cam.has_depth_of_field() { st.lens_samples.max(1) } else { 1 };
     let mut sum = Vec4::ZERO;
     for s in 0..n * n {
         let mut rng = SampleRng::new(seed, x, y, s);
         let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
         let stratum = Vec2::new((s % n) as f32, (s / n) as f32);
         let film = Vec2::new(x as f32, y as f32) + (stratum + jitter) / n as f32;
-        let lens = Vec2::new(rng.next_f32(), rng.next_f32());
-        let sample = integrator.camera_ray(&cam.ray(film, st.width, st.height, lens), counts);
-        sum += sample.radiance.extend(if sample.opaque { 1.0 } else { 0.0 });
+        for _ in 0..lens_samples {
+            let lens = Vec2::new(rng.next_f32(), rng.next_f32());
+            let sample = integrator.camera_ray(&cam.ray(film, st.width, st.height, lens), counts);
+            sum += sample.radiance.extend(if sample.opaque { 1.0 } else { 0.0 });
+        }
     }
-    let rgba = sum / (n * n) as f32;
+    let rgba = sum / (n * n * lens_samples) as f32;
     (rgba, centre_aov(scene, integrator, x, y, counts))
 }
 

@@ -53,7 +53,7 @@ impl Bvh {
 
     /// The primitives of leaf `node`.
     #[inline(always)]
-    fn leaf_prims(&self, node: &Node) -> &[u32] {
+    pub(crate) fn leaf_prims(&self, node: &Node) -> &[u32] {
         &self.prim_order[node.first as usize..(node.first + node.count) as usize]
     }
 

@@ -8,10 +8,14 @@
 //! ties broken towards the lower primitive index.
 
 mod brute;
+mod bsp;
 mod bvh;
-mod sah;
+pub(crate) mod sah;
+mod segments;
 
+pub use bsp::SplitRule;
 pub use bvh::{Bvh, Node};
+pub use segments::SegmentParams;
 
 use crate::geometry::PrimHit;
 use crate::math::{Aabb, Ray};
@@ -22,8 +26,35 @@ use crate::math::{Aabb, Ray};
 pub enum AccelKind {
     /// Test every primitive: the reference all others are checked against.
     Brute,
+    /// The paper's baseline: split at the spatial centre, axes cycling x, y, z.
+    Bsp,
+    /// The paper's BSMP: split at the median primitive centroid, axes cycling.
+    Bsmp,
     /// Binned surface-area-heuristic BVH.
     Sah,
+}
+
+impl AccelKind {
+    /// Every kind, for tests and benchmarks that cover them all.
+    pub const ALL: [AccelKind; 4] = [AccelKind::Brute, AccelKind::Bsp, AccelKind::Bsmp, AccelKind::Sah];
+
+    /// The leaf size each kind uses unless told otherwise: the paper's 20 for its partitions.
+    pub fn default_leaf_size(self) -> usize {
+        match self {
+            AccelKind::Brute => 1,
+            AccelKind::Bsp | AccelKind::Bsmp => 20,
+            AccelKind::Sah => 4,
+        }
+    }
+}
+
+/// How a hierarchy is walked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Traversal {
+    /// Front to back with a shrinking `t_max` (any-hit: first blocker wins).
+    Ordered,
+    /// The paper's scale lights: segment marching (see [`SegmentParams`]).
+    Segments(SegmentParams),
 }
 
 /// Build parameters shared by the hierarchies.
@@ -46,12 +77,15 @@ pub struct TraversalStats {
     pub nodes_visited: u64,
     /// Ray/primitive tests.
     pub prim_tests: u64,
+    /// Segments marched by the scale-lights traversal.
+    pub segments: u64,
 }
 
 impl std::ops::AddAssign for TraversalStats {
     fn add_assign(&mut self, o: Self) {
         self.nodes_visited += o.nodes_visited;
         self.prim_tests += o.prim_tests;
+        self.segments += o.segments;
     }
 }
 
@@ -93,9 +127,16 @@ impl Closest {
     }
 }
 
-/// A built acceleration structure over a fixed primitive list.
+/// A built acceleration structure over a fixed primitive list, with its traversal.
 #[derive(Clone, Debug)]
-pub enum Accel {
+pub struct Accel {
+    kind: AccelKind,
+    structure: Structure,
+    traversal: Traversal,
+}
+
+#[derive(Clone, Debug)]
+enum Structure {
     /// Every primitive, tested in index order.
     Brute(brute::Brute),
     /// A hierarchy in one flat node array.
@@ -103,11 +144,40 @@ pub enum Accel {
 }
 
 impl Accel {
-    /// Builds `kind` over primitives with the given bounds (index = primitive index).
+    /// Builds `kind` over primitives with the given bounds (index = primitive index), walked
+    /// with the ordered traversal.
     pub fn build(kind: AccelKind, bounds: &[Aabb], opts: &BuildOptions) -> Self {
-        match kind {
-            AccelKind::Brute => Accel::Brute(brute::Brute::new(bounds)),
-            AccelKind::Sah => Accel::Bvh(sah::build(bounds, opts)),
+        let structure = match kind {
+            AccelKind::Brute => Structure::Brute(brute::Brute::new(bounds)),
+            AccelKind::Bsp => Structure::Bvh(bsp::build(bounds, opts, SplitRule::SpatialCentre)),
+            AccelKind::Bsmp => Structure::Bvh(bsp::build(bounds, opts, SplitRule::MedianCentroid)),
+            AccelKind::Sah => Structure::Bvh(sah::build(bounds, opts)),
+        };
+        Self { kind, structure, traversal: Traversal::Ordered }
+    }
+
+    /// This accelerator walked with `traversal` instead. Brute force has no nodes to march
+    /// segments over, so it answers the same either way.
+    pub fn with_traversal(mut self, traversal: Traversal) -> Self {
+        self.traversal = traversal;
+        self
+    }
+
+    /// What was built.
+    pub fn kind(&self) -> AccelKind {
+        self.kind
+    }
+
+    /// How it is walked.
+    pub fn traversal(&self) -> Traversal {
+        self.traversal
+    }
+
+    /// The hierarchy, unless this is brute force.
+    pub fn bvh(&self) -> Option<&Bvh> {
+        match &self.structure {
+            Structure::Brute(_) => None,
+            Structure::Bvh(b) => Some(b),
         }
     }
 
@@ -118,9 +188,10 @@ impl Accel {
     where
         F: FnMut(u32, &Ray) -> Option<PrimHit>,
     {
-        match self {
-            Accel::Brute(b) => b.intersect(ray, stats, test),
-            Accel::Bvh(b) => b.intersect(ray, stats, test),
+        match (&self.structure, &self.traversal) {
+            (Structure::Brute(b), _) => b.intersect(ray, stats, test),
+            (Structure::Bvh(b), Traversal::Ordered) => b.intersect(ray, stats, test),
+            (Structure::Bvh(b), Traversal::Segments(p)) => b.intersect_segments(ray, p, stats, test),
         }
     }
 
@@ -130,17 +201,15 @@ impl Accel {
     where
         F: FnMut(u32, &Ray) -> bool,
     {
-        match self {
-            Accel::Brute(b) => b.occluded(ray, stats, test),
-            Accel::Bvh(b) => b.occluded(ray, stats, test),
+        match (&self.structure, &self.traversal) {
+            (Structure::Brute(b), _) => b.occluded(ray, stats, test),
+            (Structure::Bvh(b), Traversal::Ordered) => b.occluded(ray, stats, test),
+            (Structure::Bvh(b), Traversal::Segments(p)) => b.occluded_segments(ray, p, stats, test),
         }
     }
 
     /// Number of hierarchy nodes (0 for brute force).
     pub fn node_count(&self) -> usize {
-        match self {
-            Accel::Brute(_) => 0,
-            Accel::Bvh(b) => b.nodes().len(),
-        }
+        self.bvh().map_or(0, |b| b.nodes().len())
     }
 }

@@ -14,6 +14,7 @@ pub struct Whitted<'a> {
     accel: &'a Accel,
     effects: Effects,
     max_depth: u32,
+    medium_ior: f32,
 }
 
 /// Radiance along a camera ray, and whether it saw anything (for alpha).
@@ -28,7 +29,8 @@ pub struct CameraSample {
 impl<'a> Whitted<'a> {
     /// An integrator that traces only the effects `scene.effects()` reports.
     pub fn new(scene: &'a Scene, accel: &'a Accel) -> Self {
-        Self { scene, accel, effects: scene.effects(), max_depth: scene.settings().max_depth }
+        let st = scene.settings();
+        Self { scene, accel, effects: scene.effects(), max_depth: st.max_depth, medium_ior: st.medium_ior }
     }
 
     /// The accelerator rays are traced through.
@@ -75,7 +77,7 @@ impl<'a> Whitted<'a> {
         let dir = ray.dir.normalize();
         let mut mirror_weight = m.reflectivity;
         if self.effects.refraction && m.transmits() {
-            let eta = if entering { 1.0 / m.ior } else { m.ior };
+            let eta = if entering { self.medium_ior / m.ior } else { m.ior / self.medium_ior };
             let fresnel = fresnel_dielectric(-dir.dot(ns), eta);
             mirror_weight += m.transmission * fresnel;
             if let Some(t) = refract(dir, ns, eta).filter(|_| fresnel < 1.0) {

@@ -27,6 +27,10 @@ pub struct Settings {
     pub background: Vec3,
     /// Exposure in stops applied to the PNG preview.
     pub exposure: f32,
+    /// Lens samples per pixel sample (the `.scn` "depthComplexity"); used only with depth of field.
+    pub lens_samples: u32,
+    /// Index of refraction of the space outside every object (the `.scn` "startingMaterial").
+    pub medium_ior: f32,
 }
 
 impl Default for Settings {
@@ -39,6 +43,8 @@ impl Default for Settings {
             ambient: Vec3::splat(0.05),
             background: Vec3::ZERO,
             exposure: 0.0,
+            lens_samples: 1,
+            medium_ior: 1.0,
         }
     }
 }

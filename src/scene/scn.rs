@@ -1,0 +1,272 @@
+//! The `.scn` scene format of the paper's ray tracer (see `../shared/paper-scenes/README.md`).
+//!
+//! Whitespace-separated tokens, `#` comments out the rest of a line, each statement starts with
+//! a keyword. The original's shading maps onto lumis's materials without a second integrator:
+//! - ambient `0.2 * colour`: `Settings::ambient = 0.2`;
+//! - per unshadowed light `I * (colour * cos + cos_r^shininess)`, no distance falloff: lights
+//!   become [`Light::Unattenuated`] with irradiance `pi * I` (lumis's Lambert is `kd / pi`)
+//!   and the Phong colour is `2 / (n + 2)` so lumis's normalised lobe peaks at exactly 1;
+//! - `reflectivity` → mirror weight; `Glass` → transmission 1 with Fresnel, no diffuse.
+//!
+//! Defaults when a statement is missing: camera at the origin looking down -z with up +y,
+//! `cameraScreenWidth 1920`, no depth of field, `maxReflections 5`, 1920x1080, 1 sample,
+//! `depthComplexity 5` lens rays per sample.
+
+use super::mesh_m::{MeshMError, load_m_file};
+use super::{Scene, SceneBuilder};
+use crate::camera::{Camera, FovAxis, Lens};
+use crate::geometry::{Mesh, Sphere};
+use crate::light::Light;
+use crate::material::{Material, Texture};
+use crate::math::{Aabb, Mat4, Vec3};
+use crate::texture::NormalMap;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Why a `.scn` file could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum ScnError {
+    /// The file could not be read.
+    #[error("{}: {source}", path.display())]
+    Io { path: PathBuf, source: std::io::Error },
+    /// A statement is malformed.
+    #[error("{}:{line}: {message}", path.display())]
+    Syntax { path: PathBuf, line: usize, message: String },
+    /// A `model` mesh could not be loaded.
+    #[error("{}:{line}: model {}", path.display(), source)]
+    Model { path: PathBuf, line: usize, source: MeshMError },
+}
+
+/// Loads a `.scn` file; `model` paths resolve relative to its folder.
+pub fn load_scn_file(path: &Path) -> Result<Scene, ScnError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ScnError::Io { path: path.to_owned(), source })?;
+    parse_scn(&text, path)
+}
+
+/// Parses `.scn` text; `path` names it in messages and anchors relative `model` paths.
+pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
+    let tokens: Vec<(usize, &str)> = text
+        .lines()
+        .enumerate()
+        .flat_map(|(i, l)| l.split_whitespace().take_while(|t| !t.starts_with('#')).map(move |t| (i + 1, t)))
+        .collect();
+    let mut p = Parser { tokens, pos: 0, path, materials: HashMap::new() };
+    let mut b = SceneBuilder::new();
+    let st = b.settings_mut();
+    (st.width, st.height, st.spp, st.max_depth, st.ambient, st.lens_samples) = (1920, 1080, 1, 5, Vec3::splat(0.2), 5);
+    let mut cam = CameraSpec::default();
+    let mut count = 0usize;
+    while let Some((line, keyword)) = p.next() {
+        match keyword {
+            "cameraPosition" => cam.position = p.vec3("camera position")?,
+            "cameraLookAt" => cam.look_at = p.vec3("camera look-at point")?,
+            "cameraUp" => cam.up = p.vec3("camera up vector")?,
+            "cameraScreenWidth" => cam.screen_width = p.positive("screen width")?,
+            "dispersion" => cam.dispersion = p.number("dispersion")?,
+            "depthComplexity" => b.settings_mut().lens_samples = p.count("depth complexity")?.max(1),
+            "maxReflections" => b.settings_mut().max_depth = p.count("maximum reflections")?,
+            "light" => {
+                let position = p.vec3("light position")?;
+                let intensity = p.number("light intensity")?;
+                let irradiance = Vec3::splat(std::f32::consts::PI * intensity);
+                b.add_light(Light::Unattenuated { position, irradiance });
+            }
+            "sphere" => {
+                let center = p.vec3("sphere centre")?;
+                let radius = p.positive("sphere radius")?;
+                let m = p.material(&mut b)?;
+                count += 1;
+                b.add_sphere(format!("sphere{count}@{line}"), Sphere { center, radius }, m);
+            }
+            "triangle" => {
+                let v = [p.vec3("triangle vertex")?, p.vec3("triangle vertex")?, p.vec3("triangle vertex")?];
+                let m = p.material(&mut b)?;
+                let mesh = Mesh::new(v.to_vec(), None, None, vec![[0, 1, 2]]).map_err(|e| p.err(line, e.to_string()))?;
+                count += 1;
+                b.add_mesh(format!("triangle{count}@{line}"), mesh, m);
+            }
+            "model" => {
+                let file = p.word("model file")?;
+                let size = p.positive("model size")?;
+                let offset = p.vec3("model translation")?;
+                let m = p.material(&mut b)?;
+                let full = path.parent().unwrap_or(Path::new(".")).join(file);
+                let mesh = load_m_file(&full).map_err(|source| ScnError::Model { path: path.to_owned(), line, source })?;
+                b.add_mesh(file.to_owned(), place_model(mesh, size, offset), m);
+            }
+            "material" => {
+                let name = p.word("material name")?;
+                let m = p.material_spec()?;
+                p.materials.insert(name.to_owned(), m);
+            }
+            "startingMaterial" => {
+                let m = p.material_spec()?;
+                // Only a transmissive medium changes anything: its index becomes the outside's.
+                b.settings_mut().medium_ior = if m.transmits() { m.ior } else { 1.0 };
+            }
+            other => return Err(p.err(line, format!("unknown keyword {other:?}"))),
+        }
+    }
+    let camera = cam.build().map_err(|e| p.err(0, format!("camera: {e}")))?;
+    Ok(b.build(camera))
+}
+
+/// Centres the mesh's bounds at the origin, scales its diagonal to `size`, then translates.
+fn place_model(mesh: Mesh, size: f32, offset: Vec3) -> Mesh {
+    let bounds: Aabb = mesh.bounds();
+    let diagonal = bounds.extent().length().max(f32::MIN_POSITIVE);
+    let m = Mat4::from_translation(offset) * Mat4::from_scale(Vec3::splat(size / diagonal)) * Mat4::from_translation(-bounds.center());
+    mesh.transformed(&m)
+}
+
+struct CameraSpec {
+    position: Vec3,
+    look_at: Vec3,
+    up: Vec3,
+    screen_width: f32,
+    dispersion: f32,
+}
+
+impl Default for CameraSpec {
+    fn default() -> Self {
+        Self { position: Vec3::ZERO, look_at: -Vec3::Z, up: Vec3::Y, screen_width: 1920.0, dispersion: -1.0 }
+    }
+}
+
+impl CameraSpec {
+    /// The original maps column x of W to `(x - W/2)/2 * (w/W)` on the image plane through the
+    /// look-at point: half the visible width there is `w / 4`.
+    fn build(&self) -> Result<Camera, crate::camera::CameraError> {
+        let distance = (self.look_at - self.position).length();
+        let half_fov = (self.screen_width * 0.25 / distance.max(f32::MIN_POSITIVE)).atan();
+        let lens = if self.dispersion > 0.0 { Lens::Square(self.dispersion) } else { Lens::Pinhole };
+        Ok(Camera::look_at(self.position, self.look_at, self.up, 2.0 * half_fov.to_degrees(), 0.0, None)?
+            .with_fov_axis(FovAxis::Horizontal)
+            .with_lens(lens))
+    }
+}
+
+struct Parser<'a> {
+    tokens: Vec<(usize, &'a str)>,
+    pos: usize,
+    path: &'a Path,
+    materials: HashMap<String, Material>,
+}
+
+impl<'a> Parser<'a> {
+    fn next(&mut self) -> Option<(usize, &'a str)> {
+        let t = self.tokens.get(self.pos).copied();
+        self.pos += 1;
+        t
+    }
+
+    fn err(&self, line: usize, message: String) -> ScnError {
+        ScnError::Syntax { path: self.path.to_owned(), line, message }
+    }
+
+    /// Line of the most recent token (for "ran out" messages).
+    fn line(&self) -> usize {
+        self.tokens.get(self.pos.saturating_sub(1)).or(self.tokens.last()).map_or(1, |t| t.0)
+    }
+
+    fn word(&mut self, what: &str) -> Result<&'a str, ScnError> {
+        self.next().map(|t| t.1).ok_or_else(|| self.err(self.line(), format!("expected {what}, found end of file")))
+    }
+
+    fn number(&mut self, what: &str) -> Result<f32, ScnError> {
+        let (line, t) = self.next().ok_or_else(|| self.err(self.line(), format!("expected {what}, found end of file")))?;
+        match t.parse::<f32>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(self.err(line, format!("expected {what} (a finite number), found {t:?}"))),
+        }
+    }
+
+    fn positive(&mut self, what: &str) -> Result<f32, ScnError> {
+        let v = self.number(what)?;
+        if v > 0.0 { Ok(v) } else { Err(self.err(self.line(), format!("{what} must be positive, found {v}"))) }
+    }
+
+    fn count(&mut self, what: &str) -> Result<u32, ScnError> {
+        let v = self.number(what)?;
+        if v >= 0.0 && v.fract() == 0.0 && v <= 1e6 {
+            Ok(v as u32)
+        } else {
+            Err(self.err(self.line(), format!("{what} must be a whole number >= 0, found {v}")))
+        }
+    }
+
+    fn vec3(&mut self, what: &str) -> Result<Vec3, ScnError> {
+        Ok(Vec3::new(self.number(what)?, self.number(what)?, self.number(what)?))
+    }
+
+    fn colour(&mut self) -> Result<Vec3, ScnError> {
+        self.vec3("colour component")
+    }
+
+    /// A MATERIAL where geometry expects one, added to the scene; returns its index.
+    fn material(&mut self, b: &mut SceneBuilder) -> Result<u32, ScnError> {
+        let m = self.material_spec()?;
+        Ok(b.add_material(m))
+    }
+
+    /// A material: a defined name, or a type with its parameters and a normal map.
+    fn material_spec(&mut self) -> Result<Material, ScnError> {
+        let (line, kind) = self.next().ok_or_else(|| self.err(self.line(), "expected a material, found end of file".into()))?;
+        if let Some(m) = self.materials.get(kind) {
+            return Ok(m.clone());
+        }
+        let mut m = Material { specular: Vec3::ZERO, ..Material::default() };
+        let (diffuse, shininess, reflectivity) = match kind {
+            "FlatColor" => (Texture::Solid(self.colour()?), -1.0, -1.0),
+            "ShinyColor" => (Texture::Solid(self.colour()?), self.number("shininess")?, self.number("reflectivity")?),
+            "Glass" => {
+                m.ior = self.positive("refractive index")?;
+                m.transmission = 1.0;
+                (Texture::Solid(Vec3::ZERO), self.number("shininess")?, -1.0)
+            }
+            "Checkerboard" | "Turbulence" | "Marble" | "Wood" => {
+                let (a, b_, scale) = (self.colour()?, self.colour()?, self.positive("texture scale")?);
+                let t = match kind {
+                    "Checkerboard" => Texture::Checkerboard { a, b: b_, scale },
+                    "Turbulence" => Texture::Turbulence { a, b: b_, scale },
+                    "Marble" => Texture::Marble { a, b: b_, scale },
+                    _ => Texture::Wood { a, b: b_, scale },
+                };
+                (t, self.number("shininess")?, self.number("reflectivity")?)
+            }
+            "CrissCross" => {
+                let (a, b_, c) = (self.colour()?, self.colour()?, self.colour()?);
+                let scale = self.positive("texture scale")?;
+                (Texture::CrissCross { a, b: b_, c, scale }, self.number("shininess")?, self.number("reflectivity")?)
+            }
+            other => {
+                return Err(self.err(
+                    line,
+                    format!(
+                        "unknown material {other:?}; expected FlatColor, ShinyColor, Checkerboard, Glass, Turbulence, \
+                         Marble, Wood, CrissCross or a name defined with `material`"
+                    ),
+                ));
+            }
+        };
+        m.diffuse = diffuse;
+        if shininess > 0.0 {
+            m.shininess = shininess;
+            m.specular = Vec3::splat(2.0 / (shininess + 2.0));
+        }
+        m.reflectivity = reflectivity.clamp(0.0, 1.0);
+        m.normal_map = self.normal_map()?;
+        Ok(m)
+    }
+
+    fn normal_map(&mut self) -> Result<Option<NormalMap>, ScnError> {
+        match self.next() {
+            Some((_, "null")) => Ok(None),
+            Some((_, "NormalMap")) => {
+                Ok(Some(NormalMap { scale: self.positive("normal map scale")?, amount: self.number("normal map amount")? }))
+            }
+            Some((line, t)) => Err(self.err(line, format!("expected `null` or `NormalMap scale amount`, found {t:?}"))),
+            None => Err(self.err(self.line(), "expected `null` or `NormalMap`, found end of file".into())),
+        }
+    }
+}
