@@ -11,4 +11,5 @@ pub mod geometry;
 pub mod light;
 pub mod material;
 pub mod math;
+pub mod output;
 pub mod scene;
