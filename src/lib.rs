@@ -11,6 +11,7 @@ pub mod geometry;
 pub mod light;
 pub mod material;
 pub mod math;
+pub mod output;
 pub mod scene;
 pub mod integrator;
 pub mod render;
