@@ -90,7 +90,11 @@ impl Camera {
         if !(aperture >= 0.0 && focus_distance > 0.0 && focus_distance.is_finite()) {
             return Err(CameraError::BadLens);
         }
-        let lens = if aperture > 0.0 { Lens::Disk(aperture) } else { Lens::Pinhole };
+        let lens = if aperture > 0.0 {
+            Lens::Disk(aperture)
+        } else {
+            Lens::Pinhole
+        };
         Ok(Self {
             position,
             forward,
@@ -141,7 +145,10 @@ impl Camera {
 
     /// True when the lens has a non-zero radius.
     pub fn has_depth_of_field(&self) -> bool {
-        !matches!(self.lens, Lens::Pinhole | Lens::Disk(0.0) | Lens::Square(0.0))
+        !matches!(
+            self.lens,
+            Lens::Pinhole | Lens::Disk(0.0) | Lens::Square(0.0)
+        )
     }
 
     /// The ray through film position `film` (pixels, `(0,0)` = top-left corner of the image,

@@ -56,10 +56,17 @@ impl Light {
                     irradiance: *intensity / dist2,
                 }
             }
-            Light::Unattenuated { position, irradiance } => {
+            Light::Unattenuated {
+                position,
+                irradiance,
+            } => {
                 let d = *position - p;
                 let distance = d.length().max(f32::MIN_POSITIVE);
-                LightSample { wi: d / distance, distance, irradiance: *irradiance }
+                LightSample {
+                    wi: d / distance,
+                    distance,
+                    irradiance: *irradiance,
+                }
             }
             Light::Directional {
                 direction,

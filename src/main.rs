@@ -103,19 +103,39 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     times.load = t.elapsed();
 
     let t = Instant::now();
-    let accel = Accel::build(args.accel, &scene.geometry().prim_bounds(), &BuildOptions { max_leaf_size: args.leaf_size });
+    let accel = Accel::build(
+        args.accel,
+        &scene.geometry().prim_bounds(),
+        &BuildOptions {
+            max_leaf_size: args.leaf_size,
+        },
+    );
     times.build = t.elapsed();
 
     let t = Instant::now();
     let show_progress = !args.quiet && std::io::stderr().is_terminal();
-    let opts = RenderOptions { seed: args.seed, threads: args.threads, progress: show_progress };
+    let opts = RenderOptions {
+        seed: args.seed,
+        threads: args.threads,
+        progress: show_progress,
+    };
     let rendered = render(&scene, &accel, &opts)?;
     times.render = t.elapsed();
 
     let t = Instant::now();
-    let meta = ExrMetadata { float_rgba: args.float, spp: scene.settings().spp.pow(2), render_seconds: times.render.as_secs_f32() };
+    let meta = ExrMetadata {
+        float_rgba: args.float,
+        spp: scene.settings().spp.pow(2),
+        render_seconds: times.render.as_secs_f32(),
+    };
     for path in &outputs {
-        write_by_extension(path, &rendered.film, scene.camera(), &meta, scene.settings().exposure)?;
+        write_by_extension(
+            path,
+            &rendered.film,
+            scene.camera(),
+            &meta,
+            scene.settings().exposure,
+        )?;
     }
     times.write = t.elapsed();
 
@@ -123,7 +143,10 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         for path in &outputs {
             eprintln!("wrote {}", path.display());
         }
-        eprint!("{}", summary(&times, &rendered.counts, &scene.effects(), args.stats));
+        eprint!(
+            "{}",
+            summary(&times, &rendered.counts, &scene.effects(), args.stats)
+        );
     }
     Ok(())
 }
@@ -143,12 +166,20 @@ fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
         bail!("--png {}: the file name must end in .png", png.display());
     }
     // Checked before rendering so a typo does not cost a whole render.
-    if let Some(bad) = paths.iter().find(|p| !has_extension(p, "exr") && !has_extension(p, "png")) {
-        bail!("{}: unknown output format; expected a file name ending in .exr or .png", bad.display());
+    if let Some(bad) = paths
+        .iter()
+        .find(|p| !has_extension(p, "exr") && !has_extension(p, "png"))
+    {
+        bail!(
+            "{}: unknown output format; expected a file name ending in .exr or .png",
+            bad.display()
+        );
     }
     Ok(paths)
 }
 
 fn has_extension(p: &Path, ext: &str) -> bool {
-    p.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case(ext))
+    p.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
 }

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 const TILE: u32 = 16;
 
 /// How to render.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct RenderOptions {
     /// Seed of every sample's random stream.
     pub seed: u64,
@@ -21,12 +21,6 @@ pub struct RenderOptions {
     pub threads: Option<usize>,
     /// Draw a progress bar on stderr (only when stderr is a terminal).
     pub progress: bool,
-}
-
-impl Default for RenderOptions {
-    fn default() -> Self {
-        Self { seed: 0, threads: None, progress: false }
-    }
 }
 
 /// A finished render.
@@ -71,8 +65,9 @@ pub fn render(scene: &Scene, accel: &Accel, opts: &RenderOptions) -> Result<Rend
     if st.spp == 0 {
         return Err(RenderError::NoSamples);
     }
-    let tiles: Vec<(u32, u32)> =
-        (0..height.div_ceil(TILE)).flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE))).collect();
+    let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
+        .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
+        .collect();
     let bar = progress_bar(tiles.len() as u64, opts.progress);
     let integrator = Whitted::new(scene, accel);
     let run = || -> Vec<TileResult> {
@@ -111,7 +106,9 @@ fn progress_bar(len: u64, enabled: bool) -> ProgressBar {
     }
     // indicatif's stderr target draws nothing when stderr is not a terminal.
     let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template("{spinner} rendering [{bar:40}] {percent:>3}% tiles {pos}/{len} ETA {eta}") {
+    if let Ok(style) = ProgressStyle::with_template(
+        "{spinner} rendering [{bar:40}] {percent:>3}% tiles {pos}/{len} ETA {eta}",
+    ) {
         bar.set_style(style.progress_chars("=> "));
     }
     bar
@@ -127,17 +124,34 @@ fn render_tile(scene: &Scene, integrator: &Whitted, seed: u64, x0: u32, y0: u32)
             pixels.push(render_pixel(scene, integrator, seed, x, y, &mut counts));
         }
     }
-    TileResult { x0, y0, w: x1 - x0, pixels, counts }
+    TileResult {
+        x0,
+        y0,
+        w: x1 - x0,
+        pixels,
+        counts,
+    }
 }
 
 /// `spp x spp` stratified samples (each jittered in its stratum), each traced through
 /// `lens_samples` lens positions when the camera has depth of field, box-filtered; plus one
 /// pinhole ray through the pixel centre for the AOV layers.
-fn render_pixel(scene: &Scene, integrator: &Whitted, seed: u64, x: u32, y: u32, counts: &mut RayCounts) -> (Vec4, PixelAov) {
+fn render_pixel(
+    scene: &Scene,
+    integrator: &Whitted,
+    seed: u64,
+    x: u32,
+    y: u32,
+    counts: &mut RayCounts,
+) -> (Vec4, PixelAov) {
     let st = scene.settings();
     let cam = scene.camera();
     let n = st.spp;
-    let lens_samples = if cam.has_depth_of_field() { st.lens_samples.max(1) } else { 1 };
+    let lens_samples = if cam.has_depth_of_field() {
+        st.lens_samples.max(1)
+    } else {
+        1
+    };
     let mut sum = Vec4::ZERO;
     for s in 0..n * n {
         let mut rng = SampleRng::new(seed, x, y, s);
@@ -147,7 +161,9 @@ fn render_pixel(scene: &Scene, integrator: &Whitted, seed: u64, x: u32, y: u32, 
         for _ in 0..lens_samples {
             let lens = Vec2::new(rng.next_f32(), rng.next_f32());
             let sample = integrator.camera_ray(&cam.ray(film, st.width, st.height, lens), counts);
-            sum += sample.radiance.extend(if sample.opaque { 1.0 } else { 0.0 });
+            sum += sample
+                .radiance
+                .extend(if sample.opaque { 1.0 } else { 0.0 });
         }
     }
     let rgba = sum / (n * n * lens_samples) as f32;
@@ -156,20 +172,34 @@ fn render_pixel(scene: &Scene, integrator: &Whitted, seed: u64, x: u32, y: u32, 
 
 /// What the pinhole ray through the centre of pixel `(x, y)` hits: exactly the ray a compositor
 /// rebuilds from the EXR's `worldToNDC`.
-fn centre_aov(scene: &Scene, integrator: &Whitted, x: u32, y: u32, counts: &mut RayCounts) -> PixelAov {
+fn centre_aov(
+    scene: &Scene,
+    integrator: &Whitted,
+    x: u32,
+    y: u32,
+    counts: &mut RayCounts,
+) -> PixelAov {
     let st = scene.settings();
     let cam = scene.camera();
-    let dir = cam.pinhole_dir(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), st.width, st.height);
+    let dir = cam.pinhole_dir(
+        Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
+        st.width,
+        st.height,
+    );
     counts.aov += 1;
-    match scene.intersect(integrator.accel(), &Ray::new(cam.position(), dir), &mut counts.traversal) {
+    match scene.intersect(
+        integrator.accel(),
+        &Ray::new(cam.position(), dir),
+        &mut counts.traversal,
+    ) {
         None => PixelAov::MISS,
         // The normal is reported as the surface defines it (outward / winding), not flipped
         // towards the camera, so it compares directly with other engines' normals.
         Some(hit) => PixelAov {
-                depth: (hit.surface.p - cam.position()).dot(cam.forward()),
-                normal: hit.surface.ns,
-                prim_id: hit.prim as i32,
-                object_id: hit.object as i32,
-            },
+            depth: (hit.surface.p - cam.position()).dot(cam.forward()),
+            normal: hit.surface.ns,
+            prim_id: hit.prim as i32,
+            object_id: hit.object as i32,
+        },
     }
 }

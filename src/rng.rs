@@ -40,9 +40,18 @@ mod tests {
 
     #[test]
     fn streams_are_reproducible_distinct_and_uniform() {
-        let a: Vec<f32> = (0..4).map(|_| 0.0).scan(SampleRng::new(7, 3, 4, 0), |r, _| Some(r.next_f32())).collect();
-        let b: Vec<f32> = (0..4).map(|_| 0.0).scan(SampleRng::new(7, 3, 4, 0), |r, _| Some(r.next_f32())).collect();
-        let c: Vec<f32> = (0..4).map(|_| 0.0).scan(SampleRng::new(7, 4, 3, 0), |r, _| Some(r.next_f32())).collect();
+        let a: Vec<f32> = (0..4)
+            .map(|_| 0.0)
+            .scan(SampleRng::new(7, 3, 4, 0), |r, _| Some(r.next_f32()))
+            .collect();
+        let b: Vec<f32> = (0..4)
+            .map(|_| 0.0)
+            .scan(SampleRng::new(7, 3, 4, 0), |r, _| Some(r.next_f32()))
+            .collect();
+        let c: Vec<f32> = (0..4)
+            .map(|_| 0.0)
+            .scan(SampleRng::new(7, 4, 3, 0), |r, _| Some(r.next_f32()))
+            .collect();
         assert_eq!(a, b);
         assert_ne!(a, c);
         let mut r = SampleRng::new(1, 0, 0, 0);

@@ -19,7 +19,12 @@ pub struct PhaseTimes {
 }
 
 /// Formats the summary; `detailed` adds traversal counters and the effect analysis.
-pub fn summary(times: &PhaseTimes, counts: &RayCounts, effects: &Effects, detailed: bool) -> String {
+pub fn summary(
+    times: &PhaseTimes,
+    counts: &RayCounts,
+    effects: &Effects,
+    detailed: bool,
+) -> String {
     let secs = |d: Duration| d.as_secs_f64();
     let total = counts.total();
     let mut s = String::new();

@@ -9,8 +9,10 @@ fn lumis() -> Command {
 }
 
 fn files_in(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> =
-        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
     v.sort();
     v
 }
@@ -23,7 +25,11 @@ fn default_scene_renders_small_from_any_folder() {
         .args(["--width", "64", "--height", "36", "--spp", "1", "--quiet"])
         .output()
         .unwrap();
-    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(files_in(dir.path()), ["out.exr", "out.png"]);
     let png = image::open(dir.path().join("out.png")).unwrap();
     assert_eq!((png.width(), png.height()), (64, 36));
@@ -34,14 +40,39 @@ fn render_subcommand_writes_the_requested_format_and_prints_a_summary() {
     let dir = tempfile::tempdir().unwrap();
     let out = lumis()
         .current_dir(dir.path())
-        .args(["render", "-o", "a.png", "--width", "32", "--height", "18", "--spp", "1", "--stats", "--threads", "2"])
+        .args([
+            "render",
+            "-o",
+            "a.png",
+            "--width",
+            "32",
+            "--height",
+            "18",
+            "--spp",
+            "1",
+            "--stats",
+            "--threads",
+            "2",
+        ])
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "stderr: {stderr}");
     assert_eq!(files_in(dir.path()), ["a.png"]);
-    for needle in ["time: load", "rays:", "camera", "shadow", "reflection", "refraction", "Mrays/s", "nodes visited/ray"] {
-        assert!(stderr.contains(needle), "summary lacks {needle:?}: {stderr}");
+    for needle in [
+        "time: load",
+        "rays:",
+        "camera",
+        "shadow",
+        "reflection",
+        "refraction",
+        "Mrays/s",
+        "nodes visited/ray",
+    ] {
+        assert!(
+            stderr.contains(needle),
+            "summary lacks {needle:?}: {stderr}"
+        );
     }
 }
 
@@ -50,22 +81,38 @@ fn broken_scene_exits_non_zero_names_path_and_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("broken.toml");
     std::fs::write(&scene, "[render]\nwidth = 64\nheight = \"tall\"\n").unwrap();
-    let out = lumis().current_dir(dir.path()).arg(&scene).output().unwrap();
+    let out = lumis()
+        .current_dir(dir.path())
+        .arg(&scene)
+        .output()
+        .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(stderr.contains("broken.toml"), "no path in: {stderr}");
     assert!(stderr.contains("line 3"), "no line in: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert_eq!(files_in(dir.path()), ["broken.toml"], "no output may be left behind");
+    assert_eq!(
+        files_in(dir.path()),
+        ["broken.toml"],
+        "no output may be left behind"
+    );
 }
 
 #[test]
 fn missing_scene_and_bad_output_extension_fail_cleanly() {
     let dir = tempfile::tempdir().unwrap();
-    let out = lumis().current_dir(dir.path()).arg("nope.toml").output().unwrap();
+    let out = lumis()
+        .current_dir(dir.path())
+        .arg("nope.toml")
+        .output()
+        .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("nope.toml"));
-    let out = lumis().current_dir(dir.path()).args(["-o", "x.jpg", "--width", "8", "--height", "8"]).output().unwrap();
+    let out = lumis()
+        .current_dir(dir.path())
+        .args(["-o", "x.jpg", "--width", "8", "--height", "8"])
+        .output()
+        .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("x.jpg"));
     assert!(files_in(dir.path()).is_empty());

@@ -15,27 +15,70 @@ fn huge_ground_sphere_and_small_far_sphere_have_no_holes_or_speckles() {
     let mut b = SceneBuilder::new();
     let s = b.settings_mut();
     (s.width, s.height, s.spp, s.ambient) = (160, 90, 1, Vec3::splat(0.1));
-    let ground = b.add_material(Material { diffuse: Texture::Solid(Vec3::splat(0.5)), ..Material::default() });
+    let ground = b.add_material(Material {
+        diffuse: Texture::Solid(Vec3::splat(0.5)),
+        ..Material::default()
+    });
     // The paper's ground: radius 9,999,899 centred 1e7 below, so its top is at y = -101.
-    b.add_sphere("ground", Sphere { center: Vec3::new(0.0, -1e7, 0.0), radius: 1e7 - 101.0 }, ground);
+    b.add_sphere(
+        "ground",
+        Sphere {
+            center: Vec3::new(0.0, -1e7, 0.0),
+            radius: 1e7 - 101.0,
+        },
+        ground,
+    );
     // A small sphere 2,000 units away, seen as a disc of a few pixels.
-    b.add_sphere("far", Sphere { center: Vec3::new(0.0, -60.0, -2000.0), radius: 20.0 }, ground);
-    b.add_light(Light::Directional { direction: Vec3::new(0.3, -1.0, -0.2).normalize(), irradiance: Vec3::splat(3.0) });
-    let cam = Camera::look_at(Vec3::new(0.0, -50.0, 50.0), Vec3::new(0.0, -60.0, -2000.0), Vec3::Y, 30.0, 0.0, None).unwrap();
+    b.add_sphere(
+        "far",
+        Sphere {
+            center: Vec3::new(0.0, -60.0, -2000.0),
+            radius: 20.0,
+        },
+        ground,
+    );
+    b.add_light(Light::Directional {
+        direction: Vec3::new(0.3, -1.0, -0.2).normalize(),
+        irradiance: Vec3::splat(3.0),
+    });
+    let cam = Camera::look_at(
+        Vec3::new(0.0, -50.0, 50.0),
+        Vec3::new(0.0, -60.0, -2000.0),
+        Vec3::Y,
+        30.0,
+        0.0,
+        None,
+    )
+    .unwrap();
     let scene = b.build(cam);
-    let accel = Accel::build(AccelKind::Sah, &scene.geometry().prim_bounds(), &BuildOptions::default());
-    let film = render(&scene, &accel, &RenderOptions::default()).unwrap().film;
+    let accel = Accel::build(
+        AccelKind::Sah,
+        &scene.geometry().prim_bounds(),
+        &BuildOptions::default(),
+    );
+    let film = render(&scene, &accel, &RenderOptions::default())
+        .unwrap()
+        .film;
 
     // Every pixel below the horizon sees the ground or the far sphere; none leaks through.
-    let horizon_row = (0..90).find(|&y| film.pixel_aov(80, y).object_id != -1).expect("ground visible");
+    let horizon_row = (0..90)
+        .find(|&y| film.pixel_aov(80, y).object_id != -1)
+        .expect("ground visible");
     for y in horizon_row + 2..90 {
         for x in 0..160 {
             let id = film.pixel_aov(x, y).object_id;
-            assert!(id == 0 || id == 1, "hole at ({x},{y}) below horizon row {horizon_row}");
+            assert!(
+                id == 0 || id == 1,
+                "hole at ({x},{y}) below horizon row {horizon_row}"
+            );
         }
     }
     // The far sphere is hit around the centre of the image.
-    assert_eq!(film.pixel_aov(80, 45).object_id, 1, "far sphere missing at the image centre");
+    assert_eq!(
+        film.pixel_aov(80, 45).object_id,
+        1,
+        "far sphere missing at the image centre"
+    );
     // No speckles: the directly lit ground has no pixel in shadow (self-intersection acne
     // would show as ambient-only pixels), checked on the near rows away from the far sphere.
     let ambient = 0.1 * 0.5;
@@ -53,14 +96,48 @@ fn far_from_origin_scene_renders_like_the_same_scene_at_the_origin() {
         let mut b = SceneBuilder::new();
         let s = b.settings_mut();
         (s.width, s.height, s.spp, s.ambient) = (64, 64, 1, Vec3::splat(0.05));
-        let m = b.add_material(Material { diffuse: Texture::Solid(Vec3::splat(0.7)), ..Material::default() });
-        b.add_sphere("a", Sphere { center: offset, radius: 1.0 }, m);
-        b.add_sphere("b", Sphere { center: offset + Vec3::new(0.0, -1001.0, 0.0), radius: 1000.0 }, m);
-        b.add_light(Light::Point { position: offset + Vec3::new(3.0, 5.0, 4.0), intensity: Vec3::splat(200.0) });
-        let cam = Camera::look_at(offset + Vec3::new(0.0, 1.0, 6.0), offset, Vec3::Y, 35.0, 0.0, None).unwrap();
+        let m = b.add_material(Material {
+            diffuse: Texture::Solid(Vec3::splat(0.7)),
+            ..Material::default()
+        });
+        b.add_sphere(
+            "a",
+            Sphere {
+                center: offset,
+                radius: 1.0,
+            },
+            m,
+        );
+        b.add_sphere(
+            "b",
+            Sphere {
+                center: offset + Vec3::new(0.0, -1001.0, 0.0),
+                radius: 1000.0,
+            },
+            m,
+        );
+        b.add_light(Light::Point {
+            position: offset + Vec3::new(3.0, 5.0, 4.0),
+            intensity: Vec3::splat(200.0),
+        });
+        let cam = Camera::look_at(
+            offset + Vec3::new(0.0, 1.0, 6.0),
+            offset,
+            Vec3::Y,
+            35.0,
+            0.0,
+            None,
+        )
+        .unwrap();
         let scene = b.build(cam);
-        let accel = Accel::build(AccelKind::Sah, &scene.geometry().prim_bounds(), &BuildOptions::default());
-        render(&scene, &accel, &RenderOptions::default()).unwrap().film
+        let accel = Accel::build(
+            AccelKind::Sah,
+            &scene.geometry().prim_bounds(),
+            &BuildOptions::default(),
+        );
+        render(&scene, &accel, &RenderOptions::default())
+            .unwrap()
+            .film
     };
     let near = render_at(Vec3::ZERO);
     let far = render_at(Vec3::new(1e4, 0.0, -1e4));
@@ -70,7 +147,20 @@ fn far_from_origin_scene_renders_like_the_same_scene_at_the_origin() {
     // position error into visible shifts of reflected shadow edges, which is precision, not acne.)
     let (a, b) = (near.rgba(), far.rgba());
     let mean = |f: &[lumis::math::Vec4]| f.iter().map(|p| p.x as f64).sum::<f64>() / f.len() as f64;
-    assert!((mean(a) - mean(b)).abs() < 0.01 * mean(a), "{} vs {}", mean(a), mean(b));
-    let close = a.iter().zip(b).filter(|(p, q)| (p.x - q.x).abs() <= 0.05 * p.x.max(0.02)).count();
-    assert!(close as f64 >= 0.99 * a.len() as f64, "only {close} of {} pixels agree", a.len());
+    assert!(
+        (mean(a) - mean(b)).abs() < 0.01 * mean(a),
+        "{} vs {}",
+        mean(a),
+        mean(b)
+    );
+    let close = a
+        .iter()
+        .zip(b)
+        .filter(|(p, q)| (p.x - q.x).abs() <= 0.05 * p.x.max(0.02))
+        .count();
+    assert!(
+        close as f64 >= 0.99 * a.len() as f64,
+        "only {close} of {} pixels agree",
+        a.len()
+    );
 }

@@ -14,16 +14,28 @@ use lumis::scene::{Scene, SceneBuilder};
 use std::f32::consts::PI;
 
 fn quad(center: Vec3, u: Vec3, v: Vec3) -> Mesh {
-    let p = vec![center - u - v, center + u - v, center + u + v, center - u + v];
+    let p = vec![
+        center - u - v,
+        center + u - v,
+        center + u + v,
+        center - u + v,
+    ];
     Mesh::new(p, None, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap()
 }
 
 fn matte(kd: f32) -> Material {
-    Material { diffuse: Texture::Solid(Vec3::splat(kd)), ..Material::default() }
+    Material {
+        diffuse: Texture::Solid(Vec3::splat(kd)),
+        ..Material::default()
+    }
 }
 
 fn emitter(e: Vec3) -> Material {
-    Material { diffuse: Texture::Solid(Vec3::ZERO), emission: e, ..Material::default() }
+    Material {
+        diffuse: Texture::Solid(Vec3::ZERO),
+        emission: e,
+        ..Material::default()
+    }
 }
 
 fn builder(w: u32, h: u32, spp: u32) -> SceneBuilder {
@@ -34,8 +46,21 @@ fn builder(w: u32, h: u32, spp: u32) -> SceneBuilder {
 }
 
 fn run(scene: &Scene, threads: usize) -> (Film, RayCounts) {
-    let accel = Accel::build(AccelKind::Sah, &scene.geometry().prim_bounds(), &BuildOptions::default());
-    let r = render(scene, &accel, &RenderOptions { seed: 7, threads: Some(threads), progress: false }).unwrap();
+    let accel = Accel::build(
+        AccelKind::Sah,
+        &scene.geometry().prim_bounds(),
+        &BuildOptions::default(),
+    );
+    let r = render(
+        scene,
+        &accel,
+        &RenderOptions {
+            seed: 7,
+            threads: Some(threads),
+            progress: false,
+        },
+    )
+    .unwrap();
     (r.film, r.counts)
 }
 
@@ -43,7 +68,10 @@ fn run(scene: &Scene, threads: usize) -> (Film, RayCounts) {
 fn pixel_of(scene: &Scene, p: Vec3) -> (u32, u32) {
     let st = scene.settings();
     let q = scene.camera().world_to_ndc(st.width, st.height) * p.extend(1.0);
-    ((q.x / q.w * st.width as f32) as u32, (q.y / q.w * st.height as f32) as u32)
+    (
+        (q.x / q.w * st.width as f32) as u32,
+        (q.y / q.w * st.height as f32) as u32,
+    )
 }
 
 #[test]
@@ -52,9 +80,27 @@ fn lambertian_sphere_under_point_light_matches_analytic_radiance() {
     let intensity = 16.0 * PI;
     let mut b = builder(101, 101, 2);
     let m = b.add_material(matte(0.5));
-    b.add_sphere("ball", Sphere { center: Vec3::ZERO, radius: 1.0 }, m);
-    b.add_light(Light::Point { position: Vec3::new(0.0, 0.0, 5.0), intensity: Vec3::splat(intensity) });
-    let cam = Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 14.0, 0.0, None).unwrap();
+    b.add_sphere(
+        "ball",
+        Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        },
+        m,
+    );
+    b.add_light(Light::Point {
+        position: Vec3::new(0.0, 0.0, 5.0),
+        intensity: Vec3::splat(intensity),
+    });
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 0.0, 10.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        14.0,
+        0.0,
+        None,
+    )
+    .unwrap();
     let scene = b.build(cam);
     let (film, counts) = run(&scene, 2);
     // Expected L = kd/pi * I cos / d^2 at the point each pixel-centre ray hits; samples jitter
@@ -64,18 +110,28 @@ fn lambertian_sphere_under_point_light_matches_analytic_radiance() {
     for (x, y) in [(50, 50), (60, 45), (40, 62), (70, 70), (30, 55)] {
         let aov = film.pixel_aov(x, y);
         assert_eq!(aov.prim_id, 0, "pixel ({x},{y}) should see the sphere");
-        let dir = scene.camera().pinhole_dir(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), 101, 101);
+        let dir = scene
+            .camera()
+            .pinhole_dir(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), 101, 101);
         let p = scene.camera().position() + dir * (aov.depth / dir.dot(scene.camera().forward()));
         let to_light = light - p;
         let cos = p.normalize().dot(to_light.normalize());
         let expected = 0.5 / PI * intensity * cos / to_light.length_squared();
         let got = film.pixel(x, y);
-        assert!((got.x - expected).abs() <= 0.01 * expected, "pixel ({x},{y}): {} vs {expected}", got.x);
+        assert!(
+            (got.x - expected).abs() <= 0.01 * expected,
+            "pixel ({x},{y}): {} vs {expected}",
+            got.x
+        );
         assert_eq!(got.w, 1.0);
         checked += 1;
     }
     assert_eq!(checked, 5);
-    assert!((film.pixel(50, 50).x - 0.5).abs() < 0.005, "centre radiance {}", film.pixel(50, 50).x);
+    assert!(
+        (film.pixel(50, 50).x - 0.5).abs() < 0.005,
+        "centre radiance {}",
+        film.pixel(50, 50).x
+    );
     // Corner pixels miss: transparent black.
     assert_eq!(film.pixel(0, 0), Vec4::ZERO);
     // Nothing reflects or refracts, so no such rays were traced.
@@ -89,21 +145,51 @@ fn mirror_reflects_the_known_colour() {
     let mut b = builder(32, 32, 1);
     let sky = Vec3::new(0.2, 0.4, 0.6);
     let e = b.add_material(emitter(sky));
-    let mirror = b.add_material(Material { diffuse: Texture::Solid(Vec3::ZERO), reflectivity: 0.8, ..Material::default() });
-    b.add_sphere("dome", Sphere { center: Vec3::ZERO, radius: 100.0 }, e);
-    b.add_mesh("mirror", quad(Vec3::ZERO, Vec3::X * 2.0, Vec3::Y * 2.0), mirror);
-    let cam = Camera::look_at(Vec3::new(0.3, 0.2, 5.0), Vec3::ZERO, Vec3::Y, 10.0, 0.0, None).unwrap();
+    let mirror = b.add_material(Material {
+        diffuse: Texture::Solid(Vec3::ZERO),
+        reflectivity: 0.8,
+        ..Material::default()
+    });
+    b.add_sphere(
+        "dome",
+        Sphere {
+            center: Vec3::ZERO,
+            radius: 100.0,
+        },
+        e,
+    );
+    b.add_mesh(
+        "mirror",
+        quad(Vec3::ZERO, Vec3::X * 2.0, Vec3::Y * 2.0),
+        mirror,
+    );
+    let cam = Camera::look_at(
+        Vec3::new(0.3, 0.2, 5.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        10.0,
+        0.0,
+        None,
+    )
+    .unwrap();
     let scene = b.build(cam);
     let (film, counts) = run(&scene, 2);
     let expected = sky * 0.8;
     for y in 0..32 {
         for x in 0..32 {
             let got = film.pixel(x, y).truncate();
-            assert!((got - expected).abs().max_element() < 1e-6, "pixel ({x},{y}) {got} vs {expected}");
+            assert!(
+                (got - expected).abs().max_element() < 1e-6,
+                "pixel ({x},{y}) {got} vs {expected}"
+            );
         }
     }
     assert_eq!(counts.reflection, 32 * 32);
-    assert_eq!((counts.shadow, counts.refraction), (0, 0), "no lights, no glass: no such rays");
+    assert_eq!(
+        (counts.shadow, counts.refraction),
+        (0, 0),
+        "no lights, no glass: no such rays"
+    );
 }
 
 #[test]
@@ -119,15 +205,34 @@ fn glass_slab_at_normal_incidence_transmits_the_fresnel_fraction() {
         ..Material::default()
     });
     let e = b.add_material(emitter(Vec3::ONE));
-    b.add_mesh("slab", box_mesh(Vec3::new(-3.0, -3.0, -0.5), Vec3::new(3.0, 3.0, 0.5)), glass);
-    b.add_mesh("wall", quad(Vec3::new(0.0, 0.0, -3.0), Vec3::X * 50.0, Vec3::Y * 50.0), e);
-    let cam = Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 0.5, 0.0, None).unwrap();
+    b.add_mesh(
+        "slab",
+        box_mesh(Vec3::new(-3.0, -3.0, -0.5), Vec3::new(3.0, 3.0, 0.5)),
+        glass,
+    );
+    b.add_mesh(
+        "wall",
+        quad(Vec3::new(0.0, 0.0, -3.0), Vec3::X * 50.0, Vec3::Y * 50.0),
+        e,
+    );
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 0.0, 10.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        0.5,
+        0.0,
+        None,
+    )
+    .unwrap();
     let scene = b.build(cam);
     let (film, counts) = run(&scene, 1);
     let f = 0.04f32;
     let expected = (1.0 - f) * (1.0 - f) * (1.0 + f * f);
     let got = film.pixel(4, 4).x;
-    assert!((got - expected).abs() < 1e-4, "transmitted {got}, expected {expected}");
+    assert!(
+        (got - expected).abs() < 1e-4,
+        "transmitted {got}, expected {expected}"
+    );
     assert!(counts.refraction > 0 && counts.reflection > 0);
 }
 
@@ -136,14 +241,40 @@ fn shadowed_pixel_is_exactly_ambient() {
     let mut b = builder(64, 48, 1);
     b.settings_mut().ambient = Vec3::new(0.1, 0.2, 0.3);
     let ground = b.add_material(matte(0.5));
-    b.add_mesh("ground", quad(Vec3::ZERO, Vec3::X * 20.0, Vec3::Z * 20.0), ground);
-    b.add_sphere("blocker", Sphere { center: Vec3::new(0.0, 2.0, 0.0), radius: 1.0 }, ground);
-    b.add_light(Light::Point { position: Vec3::new(0.0, 5.0, 0.0), intensity: Vec3::splat(100.0) });
-    let cam = Camera::look_at(Vec3::new(0.0, 1.0, 6.0), Vec3::ZERO, Vec3::Y, 45.0, 0.0, None).unwrap();
+    b.add_mesh(
+        "ground",
+        quad(Vec3::ZERO, Vec3::X * 20.0, Vec3::Z * 20.0),
+        ground,
+    );
+    b.add_sphere(
+        "blocker",
+        Sphere {
+            center: Vec3::new(0.0, 2.0, 0.0),
+            radius: 1.0,
+        },
+        ground,
+    );
+    b.add_light(Light::Point {
+        position: Vec3::new(0.0, 5.0, 0.0),
+        intensity: Vec3::splat(100.0),
+    });
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.0, 6.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        45.0,
+        0.0,
+        None,
+    )
+    .unwrap();
     let scene = b.build(cam);
     let (film, _) = run(&scene, 2);
     let (x, y) = pixel_of(&scene, Vec3::ZERO);
-    assert_eq!(film.pixel_aov(x, y).object_id, 0, "the shadowed pixel must see the ground");
+    assert_eq!(
+        film.pixel_aov(x, y).object_id,
+        0,
+        "the shadowed pixel must see the ground"
+    );
     let ambient = Vec3::new(0.1, 0.2, 0.3) * 0.5;
     assert_eq!(film.pixel(x, y).truncate(), ambient);
     // A lit ground point is brighter than ambient.
@@ -154,13 +285,50 @@ fn shadowed_pixel_is_exactly_ambient() {
 #[test]
 fn image_and_counts_do_not_depend_on_thread_count() {
     let mut b = builder(48, 40, 2);
-    let m = b.add_material(Material { reflectivity: 0.3, specular: Vec3::splat(0.5), shininess: 20.0, ..matte(0.6) });
-    let g = b.add_material(Material { transmission: 1.0, ..matte(0.0) });
-    b.add_sphere("a", Sphere { center: Vec3::new(-0.6, 0.0, 0.0), radius: 0.5 }, m);
-    b.add_sphere("b", Sphere { center: Vec3::new(0.6, 0.0, 0.0), radius: 0.5 }, g);
-    b.add_mesh("floor", quad(Vec3::new(0.0, -0.5, 0.0), Vec3::X * 5.0, Vec3::Z * 5.0), m);
-    b.add_light(Light::Point { position: Vec3::new(2.0, 4.0, 3.0), intensity: Vec3::splat(40.0) });
-    let cam = Camera::look_at(Vec3::new(0.0, 1.0, 4.0), Vec3::ZERO, Vec3::Y, 40.0, 0.05, None).unwrap();
+    let m = b.add_material(Material {
+        reflectivity: 0.3,
+        specular: Vec3::splat(0.5),
+        shininess: 20.0,
+        ..matte(0.6)
+    });
+    let g = b.add_material(Material {
+        transmission: 1.0,
+        ..matte(0.0)
+    });
+    b.add_sphere(
+        "a",
+        Sphere {
+            center: Vec3::new(-0.6, 0.0, 0.0),
+            radius: 0.5,
+        },
+        m,
+    );
+    b.add_sphere(
+        "b",
+        Sphere {
+            center: Vec3::new(0.6, 0.0, 0.0),
+            radius: 0.5,
+        },
+        g,
+    );
+    b.add_mesh(
+        "floor",
+        quad(Vec3::new(0.0, -0.5, 0.0), Vec3::X * 5.0, Vec3::Z * 5.0),
+        m,
+    );
+    b.add_light(Light::Point {
+        position: Vec3::new(2.0, 4.0, 3.0),
+        intensity: Vec3::splat(40.0),
+    });
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.0, 4.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        40.0,
+        0.05,
+        None,
+    )
+    .unwrap();
     let scene = b.build(cam);
     let (f1, c1) = run(&scene, 1);
     let (f2, c2) = run(&scene, 2);
@@ -171,9 +339,25 @@ fn image_and_counts_do_not_depend_on_thread_count() {
 /// An axis-aligned closed box, faces wound outwards.
 fn box_mesh(lo: Vec3, hi: Vec3) -> Mesh {
     let p: Vec<Vec3> = (0..8)
-        .map(|i| Vec3::new(if i & 1 == 0 { lo.x } else { hi.x }, if i & 2 == 0 { lo.y } else { hi.y }, if i & 4 == 0 { lo.z } else { hi.z }))
+        .map(|i| {
+            Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            )
+        })
         .collect();
-    let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-    let idx = faces.iter().flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]]).collect();
+    let faces = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let idx = faces
+        .iter()
+        .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])
+        .collect();
     Mesh::new(p, None, None, idx).unwrap()
 }

@@ -26,8 +26,18 @@ pub fn build(bounds: &[Aabb], opts: &BuildOptions, rule: SplitRule) -> Bvh {
     }
     let centroids: Vec<Vec3> = bounds.iter().map(Aabb::center).collect();
     let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
-    let mut b = Builder { bounds, centroids: &centroids, nodes: Vec::new(), max_leaf: opts.max_leaf_size.max(1), rule };
-    b.nodes.push(Node { bounds: Aabb::EMPTY, first: 0, count: 0 });
+    let mut b = Builder {
+        bounds,
+        centroids: &centroids,
+        nodes: Vec::new(),
+        max_leaf: opts.max_leaf_size.max(1),
+        rule,
+    };
+    b.nodes.push(Node {
+        bounds: Aabb::EMPTY,
+        first: 0,
+        count: 0,
+    });
     b.split(0, &mut order, 0, 0);
     Bvh::from_parts(b.nodes, order)
 }
@@ -42,10 +52,20 @@ struct Builder<'a> {
 
 impl Builder<'_> {
     fn split(&mut self, index: usize, order: &mut [u32], offset: usize, depth: usize) {
-        let node_bounds = order.iter().fold(Aabb::EMPTY, |b, &p| b.union(self.bounds[p as usize]));
+        let node_bounds = order
+            .iter()
+            .fold(Aabb::EMPTY, |b, &p| b.union(self.bounds[p as usize]));
         let n = order.len();
-        let leaf = Node { bounds: node_bounds, first: offset as u32, count: n as u32 };
-        let mid = if n <= self.max_leaf || depth + 1 >= MAX_DEPTH { None } else { self.cut(order, &node_bounds, depth) };
+        let leaf = Node {
+            bounds: node_bounds,
+            first: offset as u32,
+            count: n as u32,
+        };
+        let mid = if n <= self.max_leaf || depth + 1 >= MAX_DEPTH {
+            None
+        } else {
+            self.cut(order, &node_bounds, depth)
+        };
         let Some(mid) = mid else {
             self.nodes[index] = leaf;
             return;
@@ -53,7 +73,11 @@ impl Builder<'_> {
         let first = self.nodes.len();
         self.nodes.push(leaf);
         self.nodes.push(leaf);
-        self.nodes[index] = Node { bounds: node_bounds, first: first as u32, count: 0 };
+        self.nodes[index] = Node {
+            bounds: node_bounds,
+            first: first as u32,
+            count: 0,
+        };
         let (left, right) = order.split_at_mut(mid);
         self.split(first, left, offset, depth + 1);
         self.split(first + 1, right, offset + mid, depth + 1);
@@ -72,7 +96,9 @@ impl Builder<'_> {
                 let mid = order.len() / 2;
                 // Ties broken by index keep the build deterministic whatever the input order.
                 order.select_nth_unstable_by(mid, |&a, &b| {
-                    self.centroids[a as usize][axis].total_cmp(&self.centroids[b as usize][axis]).then(a.cmp(&b))
+                    self.centroids[a as usize][axis]
+                        .total_cmp(&self.centroids[b as usize][axis])
+                        .then(a.cmp(&b))
                 });
                 Some(mid)
             }

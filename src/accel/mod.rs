@@ -36,7 +36,12 @@ pub enum AccelKind {
 
 impl AccelKind {
     /// Every kind, for tests and benchmarks that cover them all.
-    pub const ALL: [AccelKind; 4] = [AccelKind::Brute, AccelKind::Bsp, AccelKind::Bsmp, AccelKind::Sah];
+    pub const ALL: [AccelKind; 4] = [
+        AccelKind::Brute,
+        AccelKind::Bsp,
+        AccelKind::Bsmp,
+        AccelKind::Sah,
+    ];
 
     /// The leaf size each kind uses unless told otherwise: the paper's 20 for its partitions.
     pub fn default_leaf_size(self) -> usize {
@@ -153,7 +158,11 @@ impl Accel {
             AccelKind::Bsmp => Structure::Bvh(bsp::build(bounds, opts, SplitRule::MedianCentroid)),
             AccelKind::Sah => Structure::Bvh(sah::build(bounds, opts)),
         };
-        Self { kind, structure, traversal: Traversal::Ordered }
+        Self {
+            kind,
+            structure,
+            traversal: Traversal::Ordered,
+        }
     }
 
     /// This accelerator walked with `traversal` instead. Brute force has no nodes to march
@@ -191,7 +200,9 @@ impl Accel {
         match (&self.structure, &self.traversal) {
             (Structure::Brute(b), _) => b.intersect(ray, stats, test),
             (Structure::Bvh(b), Traversal::Ordered) => b.intersect(ray, stats, test),
-            (Structure::Bvh(b), Traversal::Segments(p)) => b.intersect_segments(ray, p, stats, test),
+            (Structure::Bvh(b), Traversal::Segments(p)) => {
+                b.intersect_segments(ray, p, stats, test)
+            }
         }
     }
 

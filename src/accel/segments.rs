@@ -36,12 +36,22 @@ struct Segments {
 
 impl Segments {
     fn new(ray: &Ray, p: &SegmentParams) -> Self {
-        Self { t0: ray.t_min, len: p.init, max: p.max, dir_len: ray.dir.length(), index: 0 }
+        Self {
+            t0: ray.t_min,
+            len: p.init,
+            max: p.max,
+            dir_len: ray.dir.length(),
+            index: 0,
+        }
     }
 
     /// End of the current segment.
     fn t1(&self) -> f32 {
-        if self.len <= self.max { self.t0 + self.len / self.dir_len } else { f32::INFINITY }
+        if self.len <= self.max {
+            self.t0 + self.len / self.dir_len
+        } else {
+            f32::INFINITY
+        }
     }
 
     fn advance(&mut self) {
@@ -53,7 +63,13 @@ impl Segments {
 
 impl Bvh {
     /// Nearest hit by segment marching; the same answer as [`Bvh::intersect`].
-    pub fn intersect_segments<F>(&self, ray: &Ray, p: &SegmentParams, stats: &mut TraversalStats, test: F) -> Option<Hit>
+    pub fn intersect_segments<F>(
+        &self,
+        ray: &Ray,
+        p: &SegmentParams,
+        stats: &mut TraversalStats,
+        test: F,
+    ) -> Option<Hit>
     where
         F: FnMut(u32, &Ray) -> Option<PrimHit>,
     {
@@ -61,7 +77,13 @@ impl Bvh {
     }
 
     /// Any hit by segment marching: nearer segments first, stopping at the first blocker.
-    pub fn occluded_segments<F>(&self, ray: &Ray, p: &SegmentParams, stats: &mut TraversalStats, mut test: F) -> bool
+    pub fn occluded_segments<F>(
+        &self,
+        ray: &Ray,
+        p: &SegmentParams,
+        stats: &mut TraversalStats,
+        mut test: F,
+    ) -> bool
     where
         F: FnMut(u32, &Ray) -> bool,
     {
@@ -75,7 +97,14 @@ impl Bvh {
 
     /// The closest-hit traversal; `accept_any` selects the original's rule of returning the
     /// best hit of the first segment that found any (for the test that shows it wrong).
-    fn march<F>(&self, ray: &Ray, p: &SegmentParams, stats: &mut TraversalStats, mut test: F, accept_any: bool) -> Option<Hit>
+    fn march<F>(
+        &self,
+        ray: &Ray,
+        p: &SegmentParams,
+        stats: &mut TraversalStats,
+        mut test: F,
+        accept_any: bool,
+    ) -> Option<Hit>
     where
         F: FnMut(u32, &Ray) -> Option<PrimHit>,
     {
@@ -116,7 +145,11 @@ impl Bvh {
                 let node: &Node = &nodes[stack[sp] as usize];
                 stats.nodes_visited += 1;
                 let upper = t1.min(closest.ray.t_max);
-                let Some((near, far)) = node.bounds.hit_range(origin, inv, closest.ray.t_min, upper) else { continue };
+                let Some((near, far)) =
+                    node.bounds.hit_range(origin, inv, closest.ray.t_min, upper)
+                else {
+                    continue;
+                };
                 // Entirely before this segment: everything in it was searched already.
                 if far < seg.t0 {
                     continue;
@@ -158,10 +191,17 @@ mod tests {
     /// only at z = 25.4, and a small sphere at z = 10 whose box lies in the second segment.
     fn counter_example() -> Geometry {
         let mut g = Geometry::new();
-        let tri = vec![Vec3::new(-1.0, -1.0, 0.5), Vec3::new(1.0, -1.0, 0.5), Vec3::new(0.0, 3.0, 100.0)];
+        let tri = vec![
+            Vec3::new(-1.0, -1.0, 0.5),
+            Vec3::new(1.0, -1.0, 0.5),
+            Vec3::new(0.0, 3.0, 100.0),
+        ];
         let mesh = Mesh::new(tri, None, None, vec![[0, 1, 2]]).unwrap();
         g.add_mesh(mesh);
-        g.add_sphere(Sphere { center: Vec3::new(0.0, 0.0, 10.0), radius: 1.0 });
+        g.add_sphere(Sphere {
+            center: Vec3::new(0.0, 0.0, 10.0),
+            radius: 1.0,
+        });
         g
     }
 
@@ -172,14 +212,30 @@ mod tests {
         let ray = Ray::new(Vec3::ZERO, Vec3::Z);
         let wr = WatertightRay::new(ray.dir);
         let test = |p: u32, r: &Ray| g.intersect(p, r, &wr);
-        let params = SegmentParams { init: 2.0, max: 40000.0 };
-        let reference = bvh.intersect(&ray, &mut TraversalStats::default(), test).unwrap();
+        let params = SegmentParams {
+            init: 2.0,
+            max: 40000.0,
+        };
+        let reference = bvh
+            .intersect(&ray, &mut TraversalStats::default(), test)
+            .unwrap();
         assert_eq!((reference.prim, reference.hit.t), (1, 9.0));
-        let ours = bvh.intersect_segments(&ray, &params, &mut TraversalStats::default(), test).unwrap();
+        let ours = bvh
+            .intersect_segments(&ray, &params, &mut TraversalStats::default(), test)
+            .unwrap();
         assert_eq!(ours, reference);
-        let original = bvh.march(&ray, &params, &mut TraversalStats::default(), test, true).unwrap();
-        assert_eq!(original.prim, 0, "the original rule returns the farther triangle");
-        assert!(original.hit.t > 25.0, "the farther hit is at z = 25.4, not {}", original.hit.t);
+        let original = bvh
+            .march(&ray, &params, &mut TraversalStats::default(), test, true)
+            .unwrap();
+        assert_eq!(
+            original.prim, 0,
+            "the original rule returns the farther triangle"
+        );
+        assert!(
+            original.hit.t > 25.0,
+            "the farther hit is at z = 25.4, not {}",
+            original.hit.t
+        );
     }
 
     #[test]
@@ -189,7 +245,10 @@ mod tests {
         let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
         let wr = WatertightRay::new(ray.dir);
         let mut stats = TraversalStats::default();
-        let params = SegmentParams { init: 0.5, max: 40000.0 };
+        let params = SegmentParams {
+            init: 0.5,
+            max: 40000.0,
+        };
         bvh.intersect_segments(&ray, &params, &mut stats, |p, r| g.intersect(p, r, &wr));
         assert!(stats.prim_tests <= 2, "{stats:?}");
         assert!(stats.segments > 3);

@@ -30,7 +30,13 @@ impl<'a> Whitted<'a> {
     /// An integrator that traces only the effects `scene.effects()` reports.
     pub fn new(scene: &'a Scene, accel: &'a Accel) -> Self {
         let st = scene.settings();
-        Self { scene, accel, effects: scene.effects(), max_depth: st.max_depth, medium_ior: st.medium_ior }
+        Self {
+            scene,
+            accel,
+            effects: scene.effects(),
+            max_depth: st.max_depth,
+            medium_ior: st.medium_ior,
+        }
     }
 
     /// The accelerator rays are traced through.
@@ -42,10 +48,16 @@ impl<'a> Whitted<'a> {
     pub fn camera_ray(&self, ray: &Ray, counts: &mut RayCounts) -> CameraSample {
         counts.camera += 1;
         match self.scene.intersect(self.accel, ray, &mut counts.traversal) {
-            Some(hit) => CameraSample { radiance: self.shade(ray, &hit, 0, counts), opaque: true },
+            Some(hit) => CameraSample {
+                radiance: self.shade(ray, &hit, 0, counts),
+                opaque: true,
+            },
             None => {
                 let bg = self.scene.settings().background;
-                CameraSample { radiance: bg, opaque: bg != Vec3::ZERO }
+                CameraSample {
+                    radiance: bg,
+                    opaque: bg != Vec3::ZERO,
+                }
             }
         }
     }
@@ -65,7 +77,11 @@ impl<'a> Whitted<'a> {
         let wo = -ray.dir.normalize();
         // Shade the side the ray arrived on; `entering` tells refraction which way it goes.
         let entering = ray.dir.dot(s.ng) < 0.0;
-        let (ng, ns) = if entering { (s.ng, s.ns) } else { (-s.ng, -s.ns) };
+        let (ng, ns) = if entering {
+            (s.ng, s.ns)
+        } else {
+            (-s.ng, -s.ns)
+        };
         let kd = m.diffuse.eval(s.p, s.uv);
         let mut l = m.emission + self.scene.settings().ambient * kd;
         if self.effects.shadows && m.is_lit() {
@@ -77,7 +93,11 @@ impl<'a> Whitted<'a> {
         let dir = ray.dir.normalize();
         let mut mirror_weight = m.reflectivity;
         if self.effects.refraction && m.transmits() {
-            let eta = if entering { self.medium_ior / m.ior } else { m.ior / self.medium_ior };
+            let eta = if entering {
+                self.medium_ior / m.ior
+            } else {
+                m.ior / self.medium_ior
+            };
             let fresnel = fresnel_dielectric(-dir.dot(ns), eta);
             mirror_weight += m.transmission * fresnel;
             if let Some(t) = refract(dir, ns, eta).filter(|_| fresnel < 1.0) {
@@ -97,7 +117,16 @@ impl<'a> Whitted<'a> {
 
     /// Lambert + Phong from every light that a shadow ray finds unoccluded.
     #[allow(clippy::too_many_arguments)]
-    fn direct(&self, m: &Material, kd: Vec3, p: Vec3, ng: Vec3, ns: Vec3, wo: Vec3, counts: &mut RayCounts) -> Vec3 {
+    fn direct(
+        &self,
+        m: &Material,
+        kd: Vec3,
+        p: Vec3,
+        ng: Vec3,
+        ns: Vec3,
+        wo: Vec3,
+        counts: &mut RayCounts,
+    ) -> Vec3 {
         let mut l = Vec3::ZERO;
         for light in self.scene.lights() {
             let ls = light.sample(p);
@@ -108,15 +137,25 @@ impl<'a> Whitted<'a> {
             }
             let origin = offset_ray_origin(p, ng, ls.wi);
             // Stop just short of a point light so the light's own position never counts as a blocker.
-            let t_max = if ls.distance.is_finite() { ls.distance * (1.0 - 1e-4) } else { f32::INFINITY };
+            let t_max = if ls.distance.is_finite() {
+                ls.distance * (1.0 - 1e-4)
+            } else {
+                f32::INFINITY
+            };
             counts.shadow += 1;
-            if self.scene.occluded(self.accel, &Ray::segment(origin, ls.wi, t_max), &mut counts.traversal) {
+            if self.scene.occluded(
+                self.accel,
+                &Ray::segment(origin, ls.wi, t_max),
+                &mut counts.traversal,
+            ) {
                 continue;
             }
             let mut f = kd * std::f32::consts::FRAC_1_PI;
             if m.shininess > 0.0 && m.specular != Vec3::ZERO {
                 let cos_r = reflect(-ls.wi, ns).dot(wo).max(0.0);
-                f += m.specular * ((m.shininess + 2.0) * 0.5 * std::f32::consts::FRAC_1_PI) * cos_r.powf(m.shininess);
+                f += m.specular
+                    * ((m.shininess + 2.0) * 0.5 * std::f32::consts::FRAC_1_PI)
+                    * cos_r.powf(m.shininess);
             }
             l += f * ls.irradiance * cos;
         }
