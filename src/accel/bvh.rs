@@ -72,13 +72,7 @@ impl Bvh {
         let mut sp = 0;
         let mut node = &self.nodes[0];
         stats.nodes_visited += 1;
-        if node
-            .bounds
-            .hit_range(origin, inv, ray.t_min, ray.t_max)
-            .is_none()
-        {
-            return None;
-        }
+        node.bounds.hit_range(origin, inv, ray.t_min, ray.t_max)?;
         loop {
             if node.is_leaf() {
                 for &prim in self.leaf_prims(node) {
