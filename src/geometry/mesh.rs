@@ -82,6 +82,16 @@ impl Mesh {
         &self.positions
     }
 
+    /// Per-vertex shading normals, if the mesh is smooth-shaded.
+    pub fn normals(&self) -> Option<&[Vec3]> {
+        self.normals.as_deref()
+    }
+
+    /// Per-vertex texture coordinates, if any.
+    pub fn uvs(&self) -> Option<&[Vec2]> {
+        self.uvs.as_deref()
+    }
+
     /// Triangle vertex indices.
     pub fn indices(&self) -> &[[u32; 3]] {
         &self.indices

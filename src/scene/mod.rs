@@ -1,7 +1,23 @@
 //! The scene: geometry, the objects that own it, materials, lights, camera and render settings,
 //! plus ray queries through an accelerator and the analysis of which effects it calls for.
 //!
-//! Loaders (one per file format) build a `Scene`; nothing here knows about files.
+//! Loaders (one per file format, in the submodules) build a `Scene` through [`SceneBuilder`];
+//! [`load`] picks the loader from the file extension.
+
+mod auto;
+mod builtin;
+mod error;
+mod obj;
+mod toml;
+mod toml_schema;
+
+pub use auto::{default_rig, framing_camera};
+pub use builtin::default_scene;
+pub use error::SceneError;
+pub use obj::{load_obj_merged, load_obj_meshes};
+pub use toml::{Resolver, load_toml_file, load_toml_str};
+
+use std::path::Path;
 
 use crate::accel::{Accel, Hit, TraversalStats};
 use crate::camera::Camera;
@@ -9,6 +25,38 @@ use crate::geometry::{Geometry, SurfacePoint, WatertightRay};
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::{Ray, Vec3};
+
+/// Loads a scene file, choosing the format by extension: `.toml` is a scene description,
+/// `.obj` a bare mesh shown with an automatic camera, a default two-light rig and a grey material.
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("toml") => load_toml_file(path),
+        Some("obj") => {
+            let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
+                path: path.to_path_buf(),
+                source,
+            })?;
+            let mut b = SceneBuilder::new();
+            let material = b.add_material(Material::default());
+            for (name, mesh) in load_obj_meshes(&mut bytes.as_slice(), path)? {
+                b.add_mesh(name, mesh, material);
+            }
+            let bounds = b.bounds();
+            for light in default_rig(bounds) {
+                b.add_light(light);
+            }
+            let (w, h) = (b.settings_mut().width, b.settings_mut().height);
+            Ok(b.build(framing_camera(bounds, w, h)))
+        }
+        _ => Err(SceneError::UnknownFormat {
+            path: path.to_path_buf(),
+        }),
+    }
+}
 
 /// Render settings a scene file may give; CLI flags override them.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,0 +1,33 @@
+//! The default scene, compiled into the binary with its assets so it renders from any
+//! working directory: `scenes/default.toml` and the OBJ files it references.
+
+use std::path::Path;
+
+use super::{Scene, SceneError, load_toml_str};
+
+/// Where the embedded default scene claims to live (in messages and for resolving its assets).
+const DEFAULT_SCENE_PATH: &str = "scenes/default.toml";
+
+/// The default scene's text.
+const DEFAULT_SCENE: &str = include_str!("../../scenes/default.toml");
+
+/// Assets the default scene may reference, by file name.
+const ASSETS: &[(&str, &[u8])] = &[("knot.obj", include_bytes!("../../assets/knot.obj"))];
+
+/// The scene `lumis` renders when given no file: `scenes/default.toml` with its meshes, all
+/// embedded at compile time. An error here is a bug in the shipped scene (a test guards it).
+pub fn default_scene() -> Result<Scene, SceneError> {
+    load_toml_str(DEFAULT_SCENE, Path::new(DEFAULT_SCENE_PATH), &|path| {
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        ASSETS
+            .iter()
+            .find(|(asset, _)| *asset == name)
+            .map(|(_, bytes)| bytes.to_vec())
+            .ok_or_else(|| {
+                std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    "not one of the assets embedded in the binary",
+                )
+            })
+    })
+}

@@ -1,0 +1,370 @@
+//! The TOML scene format (documented in `docs/scene-format.md`): parsing into the schema of
+//! [`super::toml_schema`], then checking every value and reference while building the [`Scene`].
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use super::toml_schema::{
+    CameraDoc, LightDoc, LightKind, MaterialDoc, MeshDoc, RenderDoc, Scale, SceneDoc,
+};
+use super::{SceneBuilder, SceneError, auto, obj};
+use crate::camera::Camera;
+use crate::geometry::{Mesh, Sphere};
+use crate::light::Light;
+use crate::material::{Material, Texture};
+use crate::math::{Mat4, Vec3};
+use crate::scene::Scene;
+
+/// Reads file callback: the bytes of a file a scene references (an OBJ mesh).
+pub type Resolver<'a> = &'a dyn Fn(&Path) -> std::io::Result<Vec<u8>>;
+
+/// Loads the TOML scene at `path`; referenced files are read from disk relative to its folder.
+pub fn load_toml_file(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    load_toml_str(&text, path, &|p| std::fs::read(p))
+}
+
+/// Loads a TOML scene from `text`. `origin` is the scene's path: it names the file in errors and
+/// its folder is where relative mesh paths start. `resolver` reads referenced files.
+pub fn load_toml_str(
+    text: &str,
+    origin: &Path,
+    resolver: Resolver<'_>,
+) -> Result<Scene, SceneError> {
+    let doc: SceneDoc = ::toml::from_str(text).map_err(|e| {
+        let offset = e.span().map_or(0, |s| s.start);
+        SceneError::parse_at(origin, text, offset, e.message())
+    })?;
+    Loader {
+        origin,
+        resolver,
+        builder: SceneBuilder::new(),
+        materials: HashMap::new(),
+    }
+    .load(doc)
+}
+
+/// State while turning a parsed document into a scene.
+struct Loader<'a> {
+    origin: &'a Path,
+    resolver: Resolver<'a>,
+    builder: SceneBuilder,
+    /// Material name to index in the builder.
+    materials: HashMap<String, u32>,
+}
+
+impl Loader<'_> {
+    fn load(mut self, doc: SceneDoc) -> Result<Scene, SceneError> {
+        self.render(&doc.render)?;
+        for (name, m) in &doc.materials {
+            let material = self.material(name, m)?;
+            let id = self.builder.add_material(material);
+            self.materials.insert(name.clone(), id);
+        }
+        for (i, l) in doc.light.iter().enumerate() {
+            let light = self.light(&format!("light[{i}]"), l)?;
+            self.builder.add_light(light);
+        }
+        for (i, s) in doc.sphere.iter().enumerate() {
+            let element = match &s.name {
+                Some(n) => format!("sphere[{i}] \"{n}\""),
+                None => format!("sphere[{i}]"),
+            };
+            self.finite(&element, "center", &s.center)?;
+            if !(s.radius > 0.0 && s.radius.is_finite()) {
+                return Err(self.err(&element, format!("radius {} must be > 0", s.radius)));
+            }
+            let material = self.material_ref(&element, s.material.as_deref())?;
+            let sphere = Sphere {
+                center: Vec3::from(s.center),
+                radius: s.radius,
+            };
+            let name = s.name.clone().unwrap_or_else(|| format!("sphere{i}"));
+            self.builder.add_sphere(name, sphere, material);
+        }
+        for (i, m) in doc.mesh.iter().enumerate() {
+            let element = match &m.name {
+                Some(n) => format!("mesh[{i}] \"{n}\""),
+                None => format!("mesh[{i}]"),
+            };
+            let mesh = self.mesh(&element, m)?;
+            let material = self.material_ref(&element, m.material.as_deref())?;
+            let name = m.name.clone().unwrap_or_else(|| format!("mesh{i}"));
+            self.builder.add_mesh(name, mesh, material);
+        }
+        let camera = match &doc.camera {
+            Some(c) => self.camera(c)?,
+            None => {
+                let s = self.builder.settings_mut().clone();
+                auto::framing_camera(self.builder.bounds(), s.width, s.height)
+            }
+        };
+        Ok(self.builder.build(camera))
+    }
+
+    fn err(&self, element: &str, message: impl Into<String>) -> SceneError {
+        SceneError::invalid(self.origin, element, message)
+    }
+
+    /// Checks that every component of `v` is finite.
+    fn finite(&self, element: &str, field: &str, v: &[f32]) -> Result<(), SceneError> {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(self.err(element, format!("{field} {v:?} must be finite")))
+        }
+    }
+
+    /// Checks that a colour is finite and non-negative.
+    fn color(&self, element: &str, field: &str, c: [f32; 3]) -> Result<Vec3, SceneError> {
+        self.finite(element, field, &c)?;
+        if c.iter().any(|x| *x < 0.0) {
+            return Err(self.err(element, format!("{field} {c:?} must be >= 0")));
+        }
+        Ok(Vec3::from(c))
+    }
+
+    fn render(&mut self, r: &RenderDoc) -> Result<(), SceneError> {
+        let e = "render";
+        let d = super::Settings::default();
+        let settings = super::Settings {
+            width: r.width.unwrap_or(d.width),
+            height: r.height.unwrap_or(d.height),
+            spp: r.spp.unwrap_or(d.spp),
+            max_depth: r.max_depth.unwrap_or(d.max_depth),
+            ambient: r
+                .ambient
+                .map_or(Ok(d.ambient), |c| self.color(e, "ambient", c))?,
+            background: r
+                .background
+                .map_or(Ok(d.background), |c| self.color(e, "background", c))?,
+            exposure: r.exposure.unwrap_or(d.exposure),
+        };
+        for (field, v) in [("width", settings.width), ("height", settings.height)] {
+            if !(1..=1 << 16).contains(&v) {
+                return Err(self.err(e, format!("{field} {v} must be in 1..=65536")));
+            }
+        }
+        if !(1..=64).contains(&settings.spp) {
+            return Err(self.err(e, format!("spp {} must be in 1..=64", settings.spp)));
+        }
+        if settings.max_depth > 64 {
+            return Err(self.err(e, format!("max_depth {} exceeds 64", settings.max_depth)));
+        }
+        self.finite(e, "exposure", &[settings.exposure])?;
+        *self.builder.settings_mut() = settings;
+        Ok(())
+    }
+
+    fn material(&self, name: &str, m: &MaterialDoc) -> Result<Material, SceneError> {
+        let e = &format!("materials.{name}");
+        let d = Material::default();
+        let material = Material {
+            diffuse: match m.diffuse {
+                Some(c) => Texture::Solid(self.color(e, "diffuse", c)?),
+                None => d.diffuse,
+            },
+            specular: m
+                .specular
+                .map_or(Ok(d.specular), |c| self.color(e, "specular", c))?,
+            shininess: m.shininess.unwrap_or(d.shininess),
+            reflectivity: m.reflectivity.unwrap_or(d.reflectivity),
+            transmission: m.transmission.unwrap_or(d.transmission),
+            ior: m.ior.unwrap_or(d.ior),
+            emission: m
+                .emission
+                .map_or(Ok(d.emission), |c| self.color(e, "emission", c))?,
+        };
+        self.finite(e, "shininess", &[material.shininess])?;
+        if material.shininess < 0.0 {
+            return Err(self.err(e, "shininess must be >= 0"));
+        }
+        for (field, v) in [
+            ("reflectivity", material.reflectivity),
+            ("transmission", material.transmission),
+        ] {
+            if !(0.0..=1.0).contains(&v) {
+                return Err(self.err(e, format!("{field} {v} must be in [0, 1]")));
+            }
+        }
+        if !(material.ior > 0.0 && material.ior.is_finite()) {
+            return Err(self.err(e, format!("ior {} must be > 0", material.ior)));
+        }
+        Ok(material)
+    }
+
+    /// Index of the named material; no name means a default grey one, added on first use.
+    fn material_ref(&mut self, element: &str, name: Option<&str>) -> Result<u32, SceneError> {
+        let Some(name) = name else {
+            let key = "\0default".to_string();
+            if let Some(&id) = self.materials.get(&key) {
+                return Ok(id);
+            }
+            let id = self.builder.add_material(Material::default());
+            self.materials.insert(key, id);
+            return Ok(id);
+        };
+        self.materials.get(name).copied().ok_or_else(|| {
+            let mut known: Vec<_> = self
+                .materials
+                .keys()
+                .filter(|k| !k.starts_with('\0'))
+                .collect();
+            known.sort();
+            self.err(
+                element,
+                format!("unknown material \"{name}\" (defined: {known:?})"),
+            )
+        })
+    }
+
+    fn light(&self, e: &str, l: &LightDoc) -> Result<Light, SceneError> {
+        let color = self.color(e, "color", l.color.unwrap_or([1.0; 3]))?;
+        let power = color * self.color(e, "intensity", [l.intensity; 3])?;
+        match (l.kind, l.position, l.direction) {
+            (LightKind::Point, Some(position), None) => {
+                self.finite(e, "position", &position)?;
+                Ok(Light::Point {
+                    position: Vec3::from(position),
+                    intensity: power,
+                })
+            }
+            (LightKind::Directional, None, Some(direction)) => {
+                self.finite(e, "direction", &direction)?;
+                let direction = Vec3::from(direction)
+                    .try_normalize()
+                    .ok_or_else(|| self.err(e, "direction must be non-zero"))?;
+                Ok(Light::Directional {
+                    direction,
+                    irradiance: power,
+                })
+            }
+            (LightKind::Point, ..) => {
+                Err(self.err(e, "a point light takes position, not direction"))
+            }
+            (LightKind::Directional, ..) => {
+                Err(self.err(e, "a directional light takes direction, not position"))
+            }
+        }
+    }
+
+    fn camera(&self, c: &CameraDoc) -> Result<Camera, SceneError> {
+        let e = "camera";
+        self.finite(e, "position", &c.position)?;
+        self.finite(e, "look_at", &c.look_at)?;
+        let up = c.up.unwrap_or([0.0, 1.0, 0.0]);
+        self.finite(e, "up", &up)?;
+        let fov = c.fov.unwrap_or(40.0);
+        let aperture = c.aperture.unwrap_or(0.0);
+        self.finite(e, "fov, aperture", &[fov, aperture])?;
+        Camera::look_at(
+            Vec3::from(c.position),
+            Vec3::from(c.look_at),
+            Vec3::from(up),
+            fov,
+            aperture,
+            c.focus_distance,
+        )
+        .map_err(|err| self.err(e, err.to_string()))
+    }
+
+    fn mesh(&self, e: &str, m: &MeshDoc) -> Result<Mesh, SceneError> {
+        let mesh = match (&m.file, &m.positions) {
+            (Some(file), None) => {
+                if m.indices.is_some() || m.normals.is_some() {
+                    return Err(self.err(e, "indices/normals go with inline positions, not file"));
+                }
+                self.obj_file(e, file)?
+            }
+            (None, Some(positions)) => {
+                let indices = m
+                    .indices
+                    .clone()
+                    .ok_or_else(|| self.err(e, "inline positions need indices"))?;
+                let v3 = |v: &Vec<[f32; 3]>| v.iter().map(|p| Vec3::from(*p)).collect();
+                for p in positions.iter().chain(m.normals.iter().flatten()) {
+                    self.finite(e, "vertex", p)?;
+                }
+                Mesh::new(v3(positions), m.normals.as_ref().map(v3), None, indices)
+                    .map_err(|err| self.err(e, err.to_string()))?
+            }
+            _ => return Err(self.err(e, "give either file or positions + indices")),
+        };
+        let mesh = match m.smooth {
+            Some(true) if mesh.normals().is_none() => with_normals(mesh, true),
+            Some(false) => with_normals(mesh, false),
+            _ => Ok(mesh),
+        }
+        .map_err(|err| self.err(e, err.to_string()))?;
+        Ok(mesh.transformed(&self.transform(e, m)?))
+    }
+
+    /// Object to world: scale, then rotate about X, Y, Z (degrees), then translate.
+    fn transform(&self, e: &str, m: &MeshDoc) -> Result<Mat4, SceneError> {
+        let t = m.translate.unwrap_or([0.0; 3]);
+        let r = m.rotate.unwrap_or([0.0; 3]);
+        let s = match m.scale {
+            None => [1.0; 3],
+            Some(Scale::Uniform(s)) => [s; 3],
+            Some(Scale::PerAxis(s)) => s,
+        };
+        self.finite(e, "translate", &t)?;
+        self.finite(e, "rotate", &r)?;
+        self.finite(e, "scale", &s)?;
+        if s.contains(&0.0) {
+            return Err(self.err(e, format!("scale {s:?} must be non-zero")));
+        }
+        let [rx, ry, rz] = r.map(f32::to_radians);
+        Ok(Mat4::from_translation(Vec3::from(t))
+            * Mat4::from_rotation_z(rz)
+            * Mat4::from_rotation_y(ry)
+            * Mat4::from_rotation_x(rx)
+            * Mat4::from_scale(Vec3::from(s)))
+    }
+
+    fn obj_file(&self, e: &str, file: &str) -> Result<Mesh, SceneError> {
+        let path = resolve(self.origin, file);
+        let asset = |source| SceneError::Asset {
+            path: self.origin.to_path_buf(),
+            element: e.to_string(),
+            file: path.clone(),
+            source: Box::new(source),
+        };
+        let bytes = (self.resolver)(&path).map_err(|source| {
+            asset(SceneError::Read {
+                path: path.clone(),
+                source,
+            })
+        })?;
+        obj::load_obj_merged(&mut bytes.as_slice(), &path).map_err(asset)
+    }
+}
+
+/// `file` relative to the folder of `origin` (absolute paths stay as they are).
+fn resolve(origin: &Path, file: &str) -> PathBuf {
+    origin
+        .parent()
+        .unwrap_or(Path::new(""))
+        .join(Path::new(file))
+}
+
+/// The mesh with area-weighted vertex normals (`smooth`) or with none (flat shading).
+fn with_normals(m: Mesh, smooth: bool) -> Result<Mesh, crate::geometry::MeshError> {
+    let normals = smooth.then(|| {
+        let mut n = vec![Vec3::ZERO; m.positions().len()];
+        for tri in 0..m.triangle_count() as u32 {
+            let [a, b, c] = m.corners(tri);
+            // The cross product's length is twice the area: large faces weigh more.
+            let face = (b - a).cross(c - a);
+            for i in m.indices()[tri as usize] {
+                n[i as usize] += face;
+            }
+        }
+        n.into_iter().map(Vec3::normalize_or_zero).collect()
+    });
+    let uvs = m.uvs().map(<[_]>::to_vec);
+    Mesh::new(m.positions().to_vec(), normals, uvs, m.indices().to_vec())
+}

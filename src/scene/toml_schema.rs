@@ -1,0 +1,117 @@
+//! The serde schema of a TOML scene file: what may appear where, and with which type.
+//! Unknown keys are errors, so a typo never passes silently. Values are checked later, in
+//! [`super::toml`], where errors can name the element.
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+
+/// A whole scene file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SceneDoc {
+    #[serde(default)]
+    pub render: RenderDoc,
+    pub camera: Option<CameraDoc>,
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialDoc>,
+    #[serde(default)]
+    pub light: Vec<LightDoc>,
+    #[serde(default)]
+    pub sphere: Vec<SphereDoc>,
+    #[serde(default)]
+    pub mesh: Vec<MeshDoc>,
+}
+
+/// `[render]`: every key optional, defaults from `Settings::default()`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RenderDoc {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub spp: Option<u32>,
+    pub max_depth: Option<u32>,
+    pub ambient: Option<[f32; 3]>,
+    pub background: Option<[f32; 3]>,
+    pub exposure: Option<f32>,
+}
+
+/// `[camera]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CameraDoc {
+    pub position: [f32; 3],
+    pub look_at: [f32; 3],
+    pub up: Option<[f32; 3]>,
+    pub fov: Option<f32>,
+    pub aperture: Option<f32>,
+    pub focus_distance: Option<f32>,
+}
+
+/// `[materials.NAME]`: every key optional, defaults from `Material::default()`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MaterialDoc {
+    pub diffuse: Option<[f32; 3]>,
+    pub specular: Option<[f32; 3]>,
+    pub shininess: Option<f32>,
+    pub reflectivity: Option<f32>,
+    pub transmission: Option<f32>,
+    pub ior: Option<f32>,
+    pub emission: Option<[f32; 3]>,
+}
+
+/// `[[light]]`. One flat table (not a serde-tagged enum) so errors keep exact line numbers;
+/// which keys each `type` needs is checked in [`super::toml`].
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct LightDoc {
+    #[serde(rename = "type")]
+    pub kind: LightKind,
+    pub position: Option<[f32; 3]>,
+    pub direction: Option<[f32; 3]>,
+    pub color: Option<[f32; 3]>,
+    pub intensity: f32,
+}
+
+/// The `type` of a light.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum LightKind {
+    Point,
+    Directional,
+}
+
+/// `[[sphere]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SphereDoc {
+    pub name: Option<String>,
+    pub center: [f32; 3],
+    pub radius: f32,
+    pub material: Option<String>,
+}
+
+/// `[[mesh]]`: an OBJ `file` or inline `positions` + `indices`, then a transform.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MeshDoc {
+    pub name: Option<String>,
+    pub material: Option<String>,
+    pub file: Option<String>,
+    pub positions: Option<Vec<[f32; 3]>>,
+    pub indices: Option<Vec<[u32; 3]>>,
+    pub normals: Option<Vec<[f32; 3]>>,
+    pub translate: Option<[f32; 3]>,
+    pub rotate: Option<[f32; 3]>,
+    pub scale: Option<Scale>,
+    pub smooth: Option<bool>,
+}
+
+/// `scale = 2.0` or `scale = [1.0, 2.0, 1.0]`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(untagged, expecting = "a number or an array [x, y, z]")]
+pub(super) enum Scale {
+    Uniform(f32),
+    PerAxis([f32; 3]),
+}
