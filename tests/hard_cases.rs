@@ -164,3 +164,67 @@ fn far_from_origin_scene_renders_like_the_same_scene_at_the_origin() {
         a.len()
     );
 }
+
+#[test]
+fn ground_sphere_of_radius_1e4_shows_no_shadow_acne() {
+    // A ground sphere much larger than the scene: in f32, |o - c|^2 - r^2 for a point on its
+    // surface cancels catastrophically (ulp(1e8) = 8), which makes shadow rays re-hit it.
+    // Under one directional light the nearby ground is uniformly lit (the curvature over 15
+    // units changes cos by < 1e-3), so every pixel must be within 1% of the analytic value.
+    let mut b = SceneBuilder::new();
+    let s = b.settings_mut();
+    (s.width, s.height, s.spp, s.ambient) = (96, 64, 1, Vec3::splat(0.1));
+    let ground = b.add_material(Material {
+        diffuse: Texture::Solid(Vec3::splat(0.5)),
+        ..Material::default()
+    });
+    b.add_sphere(
+        "ground",
+        Sphere {
+            center: Vec3::new(0.0, -1e4, 0.0),
+            radius: 1e4,
+        },
+        ground,
+    );
+    let dir = Vec3::new(-0.7, -1.0, -0.3).normalize();
+    b.add_light(Light::Directional {
+        direction: dir,
+        irradiance: Vec3::splat(3.0),
+    });
+    // A lens, so camera rays start off the pinhole and hit the ground at varied rounding.
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.6, 6.5),
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::Y,
+        40.0,
+        0.02,
+        None,
+    )
+    .unwrap();
+    let scene = b.build(cam);
+    let accel = Accel::build(
+        AccelKind::Sah,
+        &scene.geometry().prim_bounds(),
+        &BuildOptions::default(),
+    );
+    let film = render(&scene, &accel, &RenderOptions::default())
+        .unwrap()
+        .film;
+    let expected = 0.1 * 0.5 + 0.5 / std::f32::consts::PI * 3.0 * -dir.y;
+    let mut speckles = 0;
+    for y in 0..64 {
+        for x in 0..96 {
+            let aov = film.pixel_aov(x, y);
+            if aov.object_id == 0
+                && aov.depth < 15.0
+                && (film.pixel(x, y).x - expected).abs() > 0.01 * expected
+            {
+                speckles += 1;
+            }
+        }
+    }
+    assert_eq!(
+        speckles, 0,
+        "{speckles} ground pixels differ from the analytic {expected}"
+    );
+}

@@ -142,6 +142,7 @@ impl Loader<'_> {
                 .background
                 .map_or(Ok(d.background), |c| self.color(e, "background", c))?,
             exposure: r.exposure.unwrap_or(d.exposure),
+            ..d
         };
         for (field, v) in [("width", settings.width), ("height", settings.height)] {
             if !(1..=1 << 16).contains(&v) {
