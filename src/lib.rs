@@ -16,3 +16,4 @@ pub mod integrator;
 pub mod render;
 pub mod rng;
 pub mod stats;
+pub mod texture;
