@@ -39,15 +39,48 @@ pub struct Config {
 
 /// The configurations in Table I's order, baseline first, then SAH for reference.
 pub fn paper_configs() -> Vec<Config> {
-    let seg = |init| Traversal::Segments(SegmentParams { init, max: PAPER_SEGMENT_MAX });
+    let seg = |init| {
+        Traversal::Segments(SegmentParams {
+            init,
+            max: PAPER_SEGMENT_MAX,
+        })
+    };
     vec![
-        Config { label: "bsp (baseline)", accel: AccelKind::Bsp, traversal: Traversal::Ordered },
-        Config { label: "bsp+seg2", accel: AccelKind::Bsp, traversal: seg(2.0) },
-        Config { label: "bsp+seg4096", accel: AccelKind::Bsp, traversal: seg(4096.0) },
-        Config { label: "bsmp", accel: AccelKind::Bsmp, traversal: Traversal::Ordered },
-        Config { label: "bsmp+seg2", accel: AccelKind::Bsmp, traversal: seg(2.0) },
-        Config { label: "bsmp+seg4096", accel: AccelKind::Bsmp, traversal: seg(4096.0) },
-        Config { label: "sah", accel: AccelKind::Sah, traversal: Traversal::Ordered },
+        Config {
+            label: "bsp (baseline)",
+            accel: AccelKind::Bsp,
+            traversal: Traversal::Ordered,
+        },
+        Config {
+            label: "bsp+seg2",
+            accel: AccelKind::Bsp,
+            traversal: seg(2.0),
+        },
+        Config {
+            label: "bsp+seg4096",
+            accel: AccelKind::Bsp,
+            traversal: seg(4096.0),
+        },
+        Config {
+            label: "bsmp",
+            accel: AccelKind::Bsmp,
+            traversal: Traversal::Ordered,
+        },
+        Config {
+            label: "bsmp+seg2",
+            accel: AccelKind::Bsmp,
+            traversal: seg(2.0),
+        },
+        Config {
+            label: "bsmp+seg4096",
+            accel: AccelKind::Bsmp,
+            traversal: seg(4096.0),
+        },
+        Config {
+            label: "sah",
+            accel: AccelKind::Sah,
+            traversal: Traversal::Ordered,
+        },
     ]
 }
 
@@ -80,8 +113,11 @@ pub fn measure(
     let mut last = None;
     for _ in 0..repeat.max(1) {
         let start = Instant::now();
-        let opts = BuildOptions { max_leaf_size: leaf_size.unwrap_or(config.accel.default_leaf_size()) };
-        let accel = Accel::build(config.accel, &scene.geometry().prim_bounds(), &opts).with_traversal(config.traversal);
+        let opts = BuildOptions {
+            max_leaf_size: leaf_size.unwrap_or(config.accel.default_leaf_size()),
+        };
+        let accel = Accel::build(config.accel, &scene.geometry().prim_bounds(), &opts)
+            .with_traversal(config.traversal);
         let out = render(scene, &accel, &RenderOptions::default())?;
         times.push(start.elapsed().as_secs_f64());
         last = Some(out);
@@ -101,18 +137,26 @@ pub fn measure(
 
 /// The scene files of Table I found in `dir`, in figure order.
 pub fn table_i_files(dir: &Path) -> Vec<PathBuf> {
-    TABLE_I_SCENES.iter().map(|n| dir.join(n)).filter(|p| p.is_file()).collect()
+    TABLE_I_SCENES
+        .iter()
+        .map(|n| dir.join(n))
+        .filter(|p| p.is_file())
+        .collect()
 }
 
 /// Table I layout: one row per scene, time and % vs the baseline per configuration, plus totals.
 pub fn markdown_table(rows: &[Measurement], configs: &[Config]) -> String {
-    let scenes: Vec<&str> = rows.iter().map(|m| m.scene.as_str()).fold(Vec::new(), |mut v, s| {
-        if !v.contains(&s) {
-            v.push(s);
-        }
-        v
-    });
-    let cell = |scene: &str, label: &str| rows.iter().find(|m| m.scene == scene && m.config == label);
+    let scenes: Vec<&str> = rows
+        .iter()
+        .map(|m| m.scene.as_str())
+        .fold(Vec::new(), |mut v, s| {
+            if !v.contains(&s) {
+                v.push(s);
+            }
+            v
+        });
+    let cell =
+        |scene: &str, label: &str| rows.iter().find(|m| m.scene == scene && m.config == label);
     let mut s = String::from("| scene |");
     for c in configs {
         let _ = write!(s, " {} s | % |", c.label);
@@ -142,9 +186,15 @@ pub fn markdown_table(rows: &[Measurement], configs: &[Config]) -> String {
 
 /// Per-ray work: nodes visited and primitive tests per ray for every cell.
 pub fn work_table(rows: &[Measurement]) -> String {
-    let mut s = String::from("| scene | config | rays | nodes/ray | prim tests/ray |\n|---|---|---:|---:|---:|\n");
+    let mut s = String::from(
+        "| scene | config | rays | nodes/ray | prim tests/ray |\n|---|---|---:|---:|---:|\n",
+    );
     for m in rows {
-        let _ = writeln!(s, "| {} | {} | {} | {:.2} | {:.2} |", m.scene, m.config, m.rays, m.nodes_per_ray, m.prims_per_ray);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.2} | {:.2} |",
+            m.scene, m.config, m.rays, m.nodes_per_ray, m.prims_per_ray
+        );
     }
     s
 }
@@ -153,7 +203,11 @@ pub fn work_table(rows: &[Measurement]) -> String {
 pub fn csv(rows: &[Measurement]) -> String {
     let mut s = String::from("scene,config,median_seconds,rays,nodes_per_ray,prim_tests_per_ray\n");
     for m in rows {
-        let _ = writeln!(s, "{},{},{:.6},{},{:.4},{:.4}", m.scene, m.config, m.seconds, m.rays, m.nodes_per_ray, m.prims_per_ray);
+        let _ = writeln!(
+            s,
+            "{},{},{:.6},{},{:.4},{:.4}",
+            m.scene, m.config, m.seconds, m.rays, m.nodes_per_ray, m.prims_per_ray
+        );
     }
     s
 }

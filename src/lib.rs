@@ -5,6 +5,7 @@
 //! camera rays through an integrator into a [`film::Film`], and [`output`] writes it.
 
 pub mod accel;
+pub mod bench;
 pub mod camera;
 pub mod film;
 pub mod geometry;
@@ -17,3 +18,4 @@ pub mod render;
 pub mod rng;
 pub mod scene;
 pub mod stats;
+pub mod texture;

@@ -77,11 +77,9 @@ impl<'a> Whitted<'a> {
         let wo = -ray.dir.normalize();
         // Shade the side the ray arrived on; `entering` tells refraction which way it goes.
         let entering = ray.dir.dot(s.ng) < 0.0;
-        let (ng, ns) = if entering {
-            (s.ng, s.ns)
-        } else {
-            (-s.ng, -s.ns)
-        };
+        // Bump before choosing the side, so both sides of a surface see the same bumps.
+        let ns = m.shading_normal(s.ns, s.ng, s.p);
+        let (ng, ns) = if entering { (s.ng, ns) } else { (-s.ng, -ns) };
         let kd = m.diffuse.eval(s.p, s.uv);
         let mut l = m.emission + self.scene.settings().ambient * kd;
         if self.effects.shadows && m.is_lit() {

@@ -53,6 +53,9 @@ pub enum SceneError {
         #[source]
         source: Box<SceneError>,
     },
+    /// A `.scn` scene failed to load (its message names the file and line).
+    #[error(transparent)]
+    Scn(#[from] super::scn::ScnError),
     /// The OBJ file is malformed.
     #[error("{}: invalid OBJ: {message}", path.display())]
     Obj {
@@ -62,7 +65,7 @@ pub enum SceneError {
         message: String,
     },
     /// The file extension names no format this crate reads.
-    #[error("{}: unknown scene format (expected .toml or .obj)", path.display())]
+    #[error("{}: unknown scene format (expected .toml, .scn or .obj)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,

@@ -1,6 +1,6 @@
 //! The `.m` mesh format of the paper's scenes: `Vertex i x y z {attributes}` and `Face j a b c`
 //! lines with 1-based vertex numbers; `#` starts a comment; attributes after the coordinates
-//! are ignored.
+//! are ignored, and so are the format's `Corner` and `Edge` attribute statements.
 
 use crate::geometry::Mesh;
 use crate::math::Vec3;
@@ -12,21 +12,35 @@ use std::path::{Path, PathBuf};
 pub enum MeshMError {
     /// The file could not be read.
     #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// A line is malformed or refers to something missing.
     #[error("{}:{line}: {message}", path.display())]
-    Syntax { path: PathBuf, line: usize, message: String },
+    Syntax {
+        path: PathBuf,
+        line: usize,
+        message: String,
+    },
 }
 
 /// Reads a `.m` file into a mesh (no normals: faceted, like the original renders them).
 pub fn load_m_file(path: &Path) -> Result<Mesh, MeshMError> {
-    let text = std::fs::read_to_string(path).map_err(|source| MeshMError::Io { path: path.to_owned(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| MeshMError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
     parse_m(&text, path)
 }
 
 /// Parses `.m` text; `path` is only used in messages.
 pub fn parse_m(text: &str, path: &Path) -> Result<Mesh, MeshMError> {
-    let err = |line: usize, message: String| MeshMError::Syntax { path: path.to_owned(), line, message };
+    let err = |line: usize, message: String| MeshMError::Syntax {
+        path: path.to_owned(),
+        line,
+        message,
+    };
     let mut slot_of_vertex: HashMap<u64, u32> = HashMap::new();
     let mut positions = Vec::new();
     let mut faces: Vec<(usize, [u64; 3])> = Vec::new();
@@ -36,20 +50,37 @@ pub fn parse_m(text: &str, path: &Path) -> Result<Mesh, MeshMError> {
         let mut tok = content.split_whitespace();
         let Some(keyword) = tok.next() else { continue };
         let mut int = |what: &str| -> Result<u64, MeshMError> {
-            let t = tok.next().ok_or_else(|| err(line, format!("expected {what}, found end of line")))?;
-            t.parse().map_err(|_| err(line, format!("expected {what} (a whole number), found {t:?}")))
+            let t = tok
+                .next()
+                .ok_or_else(|| err(line, format!("expected {what}, found end of line")))?;
+            t.parse().map_err(|_| {
+                err(
+                    line,
+                    format!("expected {what} (a whole number), found {t:?}"),
+                )
+            })
         };
         match keyword {
             "Vertex" => {
                 let id = int("vertex number")?;
                 let mut c = [0.0f32; 3];
                 for (k, v) in c.iter_mut().enumerate() {
-                    let t = tok.next().ok_or_else(|| err(line, format!("vertex {id}: expected 3 coordinates, found {k}")))?;
-                    *v = t.parse().map_err(|_| err(line, format!("vertex {id}: expected a number, found {t:?}")))?;
+                    let t = tok.next().ok_or_else(|| {
+                        err(
+                            line,
+                            format!("vertex {id}: expected 3 coordinates, found {k}"),
+                        )
+                    })?;
+                    *v = t.parse().map_err(|_| {
+                        err(line, format!("vertex {id}: expected a number, found {t:?}"))
+                    })?;
                 }
                 let p = Vec3::from(c);
                 if !p.is_finite() {
-                    return Err(err(line, format!("vertex {id} has a non-finite coordinate")));
+                    return Err(err(
+                        line,
+                        format!("vertex {id} has a non-finite coordinate"),
+                    ));
                 }
                 if slot_of_vertex.insert(id, positions.len() as u32).is_some() {
                     return Err(err(line, format!("vertex {id} is defined twice")));
@@ -58,22 +89,38 @@ pub fn parse_m(text: &str, path: &Path) -> Result<Mesh, MeshMError> {
             }
             "Face" => {
                 int("face number")?;
-                let v = [int("vertex number")?, int("vertex number")?, int("vertex number")?];
+                let v = [
+                    int("vertex number")?,
+                    int("vertex number")?,
+                    int("vertex number")?,
+                ];
                 faces.push((line, v));
             }
-            other => return Err(err(line, format!("unknown statement {other:?}; expected Vertex or Face"))),
+            // Per-corner and per-edge attributes (normals, creases): nothing lumis uses.
+            "Corner" | "Edge" => {}
+            other => {
+                return Err(err(
+                    line,
+                    format!("unknown statement {other:?}; expected Vertex, Face, Corner or Edge"),
+                ));
+            }
         }
     }
     let mut indices = Vec::with_capacity(faces.len());
     for (line, v) in faces {
         let mut idx = [0u32; 3];
         for (slot, id) in idx.iter_mut().zip(v) {
-            *slot = *slot_of_vertex.get(&id).ok_or_else(|| err(line, format!("face uses vertex {id}, which is not defined")))?;
+            *slot = *slot_of_vertex
+                .get(&id)
+                .ok_or_else(|| err(line, format!("face uses vertex {id}, which is not defined")))?;
         }
         indices.push(idx);
     }
     if indices.is_empty() {
-        return Err(err(text.lines().count().max(1), "the mesh has no faces".into()));
+        return Err(err(
+            text.lines().count().max(1),
+            "the mesh has no faces".into(),
+        ));
     }
     Mesh::new(positions, None, None, indices).map_err(|e| err(0, e.to_string()))
 }

@@ -7,14 +7,18 @@
 mod auto;
 mod builtin;
 mod error;
+mod mesh_m;
 mod obj;
+mod scn;
 mod toml;
 mod toml_schema;
 
 pub use auto::{default_rig, framing_camera};
 pub use builtin::default_scene;
 pub use error::SceneError;
+pub use mesh_m::{MeshMError, load_m_file, parse_m};
 pub use obj::{load_obj_merged, load_obj_meshes};
+pub use scn::{ScnError, load_scn_file, parse_scn};
 pub use toml::{Resolver, load_toml_file, load_toml_str};
 
 use std::path::Path;
@@ -35,6 +39,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("toml") => load_toml_file(path),
+        Some("scn") => Ok(load_scn_file(path)?),
         Some("obj") => {
             let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
                 path: path.to_path_buf(),

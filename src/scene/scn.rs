@@ -28,18 +28,32 @@ use std::path::{Path, PathBuf};
 pub enum ScnError {
     /// The file could not be read.
     #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// A statement is malformed.
     #[error("{}:{line}: {message}", path.display())]
-    Syntax { path: PathBuf, line: usize, message: String },
+    Syntax {
+        path: PathBuf,
+        line: usize,
+        message: String,
+    },
     /// A `model` mesh could not be loaded.
-    #[error("{}:{line}: model {}", path.display(), source)]
-    Model { path: PathBuf, line: usize, source: MeshMError },
+    #[error("{}:{line}: cannot load the model", path.display())]
+    Model {
+        path: PathBuf,
+        line: usize,
+        source: MeshMError,
+    },
 }
 
 /// Loads a `.scn` file; `model` paths resolve relative to its folder.
 pub fn load_scn_file(path: &Path) -> Result<Scene, ScnError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ScnError::Io { path: path.to_owned(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| ScnError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
     parse_scn(&text, path)
 }
 
@@ -48,12 +62,28 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
     let tokens: Vec<(usize, &str)> = text
         .lines()
         .enumerate()
-        .flat_map(|(i, l)| l.split_whitespace().take_while(|t| !t.starts_with('#')).map(move |t| (i + 1, t)))
+        .flat_map(|(i, l)| {
+            l.split_whitespace()
+                .take_while(|t| !t.starts_with('#'))
+                .map(move |t| (i + 1, t))
+        })
         .collect();
-    let mut p = Parser { tokens, pos: 0, path, materials: HashMap::new() };
+    let mut p = Parser {
+        tokens,
+        pos: 0,
+        path,
+        materials: HashMap::new(),
+    };
     let mut b = SceneBuilder::new();
     let st = b.settings_mut();
-    (st.width, st.height, st.spp, st.max_depth, st.ambient, st.lens_samples) = (1920, 1080, 1, 5, Vec3::splat(0.2), 5);
+    (
+        st.width,
+        st.height,
+        st.spp,
+        st.max_depth,
+        st.ambient,
+        st.lens_samples,
+    ) = (1920, 1080, 1, 5, Vec3::splat(0.2), 5);
     let mut cam = CameraSpec::default();
     let mut count = 0usize;
     while let Some((line, keyword)) = p.next() {
@@ -63,25 +93,39 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
             "cameraUp" => cam.up = p.vec3("camera up vector")?,
             "cameraScreenWidth" => cam.screen_width = p.positive("screen width")?,
             "dispersion" => cam.dispersion = p.number("dispersion")?,
-            "depthComplexity" => b.settings_mut().lens_samples = p.count("depth complexity")?.max(1),
+            "depthComplexity" => {
+                b.settings_mut().lens_samples = p.count("depth complexity")?.max(1)
+            }
             "maxReflections" => b.settings_mut().max_depth = p.count("maximum reflections")?,
             "light" => {
                 let position = p.vec3("light position")?;
                 let intensity = p.number("light intensity")?;
                 let irradiance = Vec3::splat(std::f32::consts::PI * intensity);
-                b.add_light(Light::Unattenuated { position, irradiance });
+                b.add_light(Light::Unattenuated {
+                    position,
+                    irradiance,
+                });
             }
             "sphere" => {
                 let center = p.vec3("sphere centre")?;
                 let radius = p.positive("sphere radius")?;
                 let m = p.material(&mut b)?;
                 count += 1;
-                b.add_sphere(format!("sphere{count}@{line}"), Sphere { center, radius }, m);
+                b.add_sphere(
+                    format!("sphere{count}@{line}"),
+                    Sphere { center, radius },
+                    m,
+                );
             }
             "triangle" => {
-                let v = [p.vec3("triangle vertex")?, p.vec3("triangle vertex")?, p.vec3("triangle vertex")?];
+                let v = [
+                    p.vec3("triangle vertex")?,
+                    p.vec3("triangle vertex")?,
+                    p.vec3("triangle vertex")?,
+                ];
                 let m = p.material(&mut b)?;
-                let mesh = Mesh::new(v.to_vec(), None, None, vec![[0, 1, 2]]).map_err(|e| p.err(line, e.to_string()))?;
+                let mesh = Mesh::new(v.to_vec(), None, None, vec![[0, 1, 2]])
+                    .map_err(|e| p.err(line, e.to_string()))?;
                 count += 1;
                 b.add_mesh(format!("triangle{count}@{line}"), mesh, m);
             }
@@ -91,7 +135,11 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
                 let offset = p.vec3("model translation")?;
                 let m = p.material(&mut b)?;
                 let full = path.parent().unwrap_or(Path::new(".")).join(file);
-                let mesh = load_m_file(&full).map_err(|source| ScnError::Model { path: path.to_owned(), line, source })?;
+                let mesh = load_m_file(&full).map_err(|source| ScnError::Model {
+                    path: path.to_owned(),
+                    line,
+                    source,
+                })?;
                 b.add_mesh(file.to_owned(), place_model(mesh, size, offset), m);
             }
             "material" => {
@@ -115,7 +163,9 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
 fn place_model(mesh: Mesh, size: f32, offset: Vec3) -> Mesh {
     let bounds: Aabb = mesh.bounds();
     let diagonal = bounds.extent().length().max(f32::MIN_POSITIVE);
-    let m = Mat4::from_translation(offset) * Mat4::from_scale(Vec3::splat(size / diagonal)) * Mat4::from_translation(-bounds.center());
+    let m = Mat4::from_translation(offset)
+        * Mat4::from_scale(Vec3::splat(size / diagonal))
+        * Mat4::from_translation(-bounds.center());
     mesh.transformed(&m)
 }
 
@@ -129,7 +179,13 @@ struct CameraSpec {
 
 impl Default for CameraSpec {
     fn default() -> Self {
-        Self { position: Vec3::ZERO, look_at: -Vec3::Z, up: Vec3::Y, screen_width: 1920.0, dispersion: -1.0 }
+        Self {
+            position: Vec3::ZERO,
+            look_at: -Vec3::Z,
+            up: Vec3::Y,
+            screen_width: 1920.0,
+            dispersion: -1.0,
+        }
     }
 }
 
@@ -139,10 +195,21 @@ impl CameraSpec {
     fn build(&self) -> Result<Camera, crate::camera::CameraError> {
         let distance = (self.look_at - self.position).length();
         let half_fov = (self.screen_width * 0.25 / distance.max(f32::MIN_POSITIVE)).atan();
-        let lens = if self.dispersion > 0.0 { Lens::Square(self.dispersion) } else { Lens::Pinhole };
-        Ok(Camera::look_at(self.position, self.look_at, self.up, 2.0 * half_fov.to_degrees(), 0.0, None)?
-            .with_fov_axis(FovAxis::Horizontal)
-            .with_lens(lens))
+        let lens = if self.dispersion > 0.0 {
+            Lens::Square(self.dispersion)
+        } else {
+            Lens::Pinhole
+        };
+        Ok(Camera::look_at(
+            self.position,
+            self.look_at,
+            self.up,
+            2.0 * half_fov.to_degrees(),
+            0.0,
+            None,
+        )?
+        .with_fov_axis(FovAxis::Horizontal)
+        .with_lens(lens))
     }
 }
 
@@ -161,29 +228,47 @@ impl<'a> Parser<'a> {
     }
 
     fn err(&self, line: usize, message: String) -> ScnError {
-        ScnError::Syntax { path: self.path.to_owned(), line, message }
+        ScnError::Syntax {
+            path: self.path.to_owned(),
+            line,
+            message,
+        }
     }
 
     /// Line of the most recent token (for "ran out" messages).
     fn line(&self) -> usize {
-        self.tokens.get(self.pos.saturating_sub(1)).or(self.tokens.last()).map_or(1, |t| t.0)
+        self.tokens
+            .get(self.pos.saturating_sub(1))
+            .or(self.tokens.last())
+            .map_or(1, |t| t.0)
     }
 
     fn word(&mut self, what: &str) -> Result<&'a str, ScnError> {
-        self.next().map(|t| t.1).ok_or_else(|| self.err(self.line(), format!("expected {what}, found end of file")))
+        self.next()
+            .map(|t| t.1)
+            .ok_or_else(|| self.err(self.line(), format!("expected {what}, found end of file")))
     }
 
     fn number(&mut self, what: &str) -> Result<f32, ScnError> {
-        let (line, t) = self.next().ok_or_else(|| self.err(self.line(), format!("expected {what}, found end of file")))?;
+        let (line, t) = self
+            .next()
+            .ok_or_else(|| self.err(self.line(), format!("expected {what}, found end of file")))?;
         match t.parse::<f32>() {
             Ok(v) if v.is_finite() => Ok(v),
-            _ => Err(self.err(line, format!("expected {what} (a finite number), found {t:?}"))),
+            _ => Err(self.err(
+                line,
+                format!("expected {what} (a finite number), found {t:?}"),
+            )),
         }
     }
 
     fn positive(&mut self, what: &str) -> Result<f32, ScnError> {
         let v = self.number(what)?;
-        if v > 0.0 { Ok(v) } else { Err(self.err(self.line(), format!("{what} must be positive, found {v}"))) }
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(self.line(), format!("{what} must be positive, found {v}")))
+        }
     }
 
     fn count(&mut self, what: &str) -> Result<u32, ScnError> {
@@ -191,12 +276,19 @@ impl<'a> Parser<'a> {
         if v >= 0.0 && v.fract() == 0.0 && v <= 1e6 {
             Ok(v as u32)
         } else {
-            Err(self.err(self.line(), format!("{what} must be a whole number >= 0, found {v}")))
+            Err(self.err(
+                self.line(),
+                format!("{what} must be a whole number >= 0, found {v}"),
+            ))
         }
     }
 
     fn vec3(&mut self, what: &str) -> Result<Vec3, ScnError> {
-        Ok(Vec3::new(self.number(what)?, self.number(what)?, self.number(what)?))
+        Ok(Vec3::new(
+            self.number(what)?,
+            self.number(what)?,
+            self.number(what)?,
+        ))
     }
 
     fn colour(&mut self) -> Result<Vec3, ScnError> {
@@ -211,21 +303,34 @@ impl<'a> Parser<'a> {
 
     /// A material: a defined name, or a type with its parameters and a normal map.
     fn material_spec(&mut self) -> Result<Material, ScnError> {
-        let (line, kind) = self.next().ok_or_else(|| self.err(self.line(), "expected a material, found end of file".into()))?;
+        let (line, kind) = self.next().ok_or_else(|| {
+            self.err(self.line(), "expected a material, found end of file".into())
+        })?;
         if let Some(m) = self.materials.get(kind) {
             return Ok(m.clone());
         }
-        let mut m = Material { specular: Vec3::ZERO, ..Material::default() };
+        let mut m = Material {
+            specular: Vec3::ZERO,
+            ..Material::default()
+        };
         let (diffuse, shininess, reflectivity) = match kind {
             "FlatColor" => (Texture::Solid(self.colour()?), -1.0, -1.0),
-            "ShinyColor" => (Texture::Solid(self.colour()?), self.number("shininess")?, self.number("reflectivity")?),
+            "ShinyColor" => (
+                Texture::Solid(self.colour()?),
+                self.number("shininess")?,
+                self.number("reflectivity")?,
+            ),
             "Glass" => {
                 m.ior = self.positive("refractive index")?;
                 m.transmission = 1.0;
                 (Texture::Solid(Vec3::ZERO), self.number("shininess")?, -1.0)
             }
             "Checkerboard" | "Turbulence" | "Marble" | "Wood" => {
-                let (a, b_, scale) = (self.colour()?, self.colour()?, self.positive("texture scale")?);
+                let (a, b_, scale) = (
+                    self.colour()?,
+                    self.colour()?,
+                    self.positive("texture scale")?,
+                );
                 let t = match kind {
                     "Checkerboard" => Texture::Checkerboard { a, b: b_, scale },
                     "Turbulence" => Texture::Turbulence { a, b: b_, scale },
@@ -237,7 +342,11 @@ impl<'a> Parser<'a> {
             "CrissCross" => {
                 let (a, b_, c) = (self.colour()?, self.colour()?, self.colour()?);
                 let scale = self.positive("texture scale")?;
-                (Texture::CrissCross { a, b: b_, c, scale }, self.number("shininess")?, self.number("reflectivity")?)
+                (
+                    Texture::CrissCross { a, b: b_, c, scale },
+                    self.number("shininess")?,
+                    self.number("reflectivity")?,
+                )
             }
             other => {
                 return Err(self.err(
@@ -249,7 +358,8 @@ impl<'a> Parser<'a> {
                 ));
             }
         };
-        m.diffuse = diffuse;
+        // The .scn scales are frequencies for the noise kinds; lumis's are lengths.
+        m.diffuse = diffuse.from_scn_scale();
         if shininess > 0.0 {
             m.shininess = shininess;
             m.specular = Vec3::splat(2.0 / (shininess + 2.0));
@@ -262,11 +372,18 @@ impl<'a> Parser<'a> {
     fn normal_map(&mut self) -> Result<Option<NormalMap>, ScnError> {
         match self.next() {
             Some((_, "null")) => Ok(None),
-            Some((_, "NormalMap")) => {
-                Ok(Some(NormalMap { scale: self.positive("normal map scale")?, amount: self.number("normal map amount")? }))
-            }
-            Some((line, t)) => Err(self.err(line, format!("expected `null` or `NormalMap scale amount`, found {t:?}"))),
-            None => Err(self.err(self.line(), "expected `null` or `NormalMap`, found end of file".into())),
+            Some((_, "NormalMap")) => Ok(Some(NormalMap {
+                scale: self.positive("normal map scale")?,
+                amount: self.number("normal map amount")?,
+            })),
+            Some((line, t)) => Err(self.err(
+                line,
+                format!("expected `null` or `NormalMap scale amount`, found {t:?}"),
+            )),
+            None => Err(self.err(
+                self.line(),
+                "expected `null` or `NormalMap`, found end of file".into(),
+            )),
         }
     }
 }

@@ -178,6 +178,7 @@ impl Loader<'_> {
             emission: m
                 .emission
                 .map_or(Ok(d.emission), |c| self.color(e, "emission", c))?,
+            normal_map: None,
         };
         self.finite(e, "shininess", &[material.shininess])?;
         if material.shininess < 0.0 {

@@ -1,0 +1,228 @@
+//! Procedural surface colours and normal perturbation for the paper's `.scn` materials.
+//!
+//! Every pattern is a function of the world-space hit point `p` (solid texturing, like the
+//! original ray tracer), so spheres and triangles need no texture coordinates. `scale` is
+//! always a length in world units: the pattern at `p` with scale `s` equals the pattern at
+//! `p / s` with scale 1. The `.scn` files give some kinds a frequency instead;
+//! [`Texture::from_scn_scale`] converts.
+//!
+//! ```text
+//! sphere 315 -150 0  150  Marble 0.4 0.3 0.2  0.6 0.7 0.8  0.5  50 0.15  NormalMap 0.5 0.25
+//! ```
+//! becomes `Texture::Marble { a: (0.4, 0.3, 0.2), b: (0.6, 0.7, 0.8), scale: 0.5 }
+//! .from_scn_scale()` and `NormalMap { scale: 0.5, amount: 0.25 }`.
+
+mod normal_map;
+pub mod perlin;
+
+pub use normal_map::NormalMap;
+
+use crate::math::{Vec2, Vec3};
+use perlin::{noise, turbulence};
+
+/// A surface colour (linear RGB) that may vary with the world-space hit point.
+///
+/// For every kind but `Solid`, `scale` must be finite and positive (see [`Texture::validate`]);
+/// `a` is the colour where the pattern value is 1 and `b` where it is 0, matching the `.scn`
+/// files' first and second colours.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texture {
+    /// One colour everywhere.
+    Solid(Vec3),
+    /// 3-D checker of cubes with edge `scale`: `a` where `floor(x/s) + floor(y/s) + floor(z/s)`
+    /// is even, `b` where it is odd.
+    Checkerboard {
+        /// Colour of the even cells, including the cell `[0, scale)^3`.
+        a: Vec3,
+        /// Colour of the odd cells.
+        b: Vec3,
+        /// Cube edge length (world units).
+        scale: f32,
+    },
+    /// Blotchy clouds: `t = clamp(turbulence(p / scale), 0, 1)`, colour `b + t (a - b)`.
+    Turbulence {
+        /// Colour where the turbulence is strong.
+        a: Vec3,
+        /// Colour where it is weak.
+        b: Vec3,
+        /// Size of the largest blotches (world units per noise cell).
+        scale: f32,
+    },
+    /// Veins: a sine band across x + y, warped by turbulence stretched along y;
+    /// with `q = p / scale`, `t = 0.5 + 0.5 sin(q.x + q.y + turbulence(q.x, 3 q.y, q.z))`.
+    Marble {
+        /// Colour at the sine's crests.
+        a: Vec3,
+        /// Colour at its troughs.
+        b: Vec3,
+        /// Noise cell size (world units); the vein bands repeat every `2 pi scale` along x + y.
+        scale: f32,
+    },
+    /// Growth rings: `t = fract(5 noise(p / scale))`, so rings follow the noise's level sets.
+    Wood {
+        /// Colour at the outer edge of each ring.
+        a: Vec3,
+        /// Colour at its inner edge.
+        b: Vec3,
+        /// Noise cell size (world units).
+        scale: f32,
+    },
+    /// Three marble patterns, each stretched along a different axis, averaged: pattern one
+    /// blends `a`/`b`, two blends `b`/`c`, three blends `c`/`a`.
+    CrissCross {
+        /// First colour.
+        a: Vec3,
+        /// Second colour.
+        b: Vec3,
+        /// Third colour.
+        c: Vec3,
+        /// Noise cell size along each pattern's long-frequency axis (world units).
+        scale: f32,
+    },
+}
+
+/// `b + t (a - b)`: `a` at `t = 1`, as the original ray tracer weights its first colour.
+#[inline]
+fn mix(a: Vec3, b: Vec3, t: f32) -> Vec3 {
+    b + (a - b) * t
+}
+
+/// One marble pattern in noise space: a sine band along `dir` warped by turbulence of `q`
+/// stretched by `stretch`; in [0, 1].
+#[inline]
+fn veins(q: Vec3, dir: Vec3, stretch: Vec3) -> f32 {
+    0.5 + 0.5 * (q.dot(dir) + turbulence(q * stretch)).sin()
+}
+
+/// Per-axis frequency factors of the original CrissCross's three patterns: each is smooth
+/// along one axis, slowly varying along the next and fine along the third.
+const CRISS_STRETCH: [Vec3; 3] = [
+    Vec3::new(0.35, 0.05, 1.0),
+    Vec3::new(1.0, 0.35, 0.05),
+    Vec3::new(0.05, 1.0, 0.35),
+];
+/// The directions (and the original's 0.05 frequency) of the CrissCross patterns' sine bands.
+const CRISS_BANDS: [Vec3; 3] = [
+    Vec3::new(0.05, 0.0, 0.05),
+    Vec3::new(0.05, 0.05, 0.0),
+    Vec3::new(0.0, 0.05, 0.05),
+];
+
+impl Texture {
+    /// Colour (linear RGB) at world point `p`; `uv` is accepted for image textures to come and
+    /// ignored by every current kind. Every result lies in the convex hull of the kind's colours.
+    pub fn eval(&self, p: Vec3, _uv: Vec2) -> Vec3 {
+        match *self {
+            Texture::Solid(c) => c,
+            Texture::Checkerboard { a, b, scale } => {
+                // Parity per axis by bit tests: summing saturated integers could overflow.
+                let cell = (p / scale).floor();
+                let odd = (cell.x as i64 ^ cell.y as i64 ^ cell.z as i64) & 1;
+                if odd == 0 { a } else { b }
+            }
+            Texture::Turbulence { a, b, scale } => mix(a, b, turbulence(p / scale).clamp(0.0, 1.0)),
+            Texture::Marble { a, b, scale } => mix(
+                a,
+                b,
+                veins(
+                    p / scale,
+                    Vec3::new(1.0, 1.0, 0.0),
+                    Vec3::new(1.0, 3.0, 1.0),
+                ),
+            ),
+            Texture::Wood { a, b, scale } => {
+                let rings = 5.0 * noise(p / scale);
+                // Floor-based fract keeps t in [0, 1) on both signs of the noise.
+                mix(a, b, (rings - rings.floor()).clamp(0.0, 1.0))
+            }
+            Texture::CrissCross { a, b, c, scale } => {
+                let q = p / scale;
+                let t = [0, 1, 2].map(|i| veins(q, CRISS_BANDS[i], CRISS_STRETCH[i]));
+                (mix(a, b, t[0]) + mix(b, c, t[1]) + mix(c, a, t[2])) / 3.0
+            }
+        }
+    }
+
+    /// True when the texture is black everywhere (all of its colours are zero).
+    pub fn is_black(&self) -> bool {
+        self.colours().iter().all(|c| *c == Vec3::ZERO)
+    }
+
+    /// The colours the texture blends, the last repeated to fill three slots (so the set, its
+    /// convex hull and "all black" are unchanged, and shading allocates nothing).
+    fn colours(&self) -> [Vec3; 3] {
+        match *self {
+            Texture::Solid(c) => [c; 3],
+            Texture::Checkerboard { a, b, .. }
+            | Texture::Turbulence { a, b, .. }
+            | Texture::Marble { a, b, .. }
+            | Texture::Wood { a, b, .. } => [a, b, b],
+            Texture::CrissCross { a, b, c, .. } => [a, b, c],
+        }
+    }
+
+    /// The pattern's world-space scale, `None` for `Solid`.
+    pub fn scale(&self) -> Option<f32> {
+        match *self {
+            Texture::Solid(_) => None,
+            Texture::Checkerboard { scale, .. }
+            | Texture::Turbulence { scale, .. }
+            | Texture::Marble { scale, .. }
+            | Texture::Wood { scale, .. }
+            | Texture::CrissCross { scale, .. } => Some(scale),
+        }
+    }
+
+    /// Checks the invariants `eval` relies on: finite, positive scale; finite colours.
+    pub fn validate(&self) -> Result<(), &'static str> {
+        if self.colours().iter().any(|c| !c.is_finite()) {
+            return Err("texture colour is not finite");
+        }
+        match self.scale() {
+            Some(s) if !(s.is_finite() && s > 0.0) => {
+                Err("texture scale must be finite and positive")
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Reads `scale` as the `.scn` file's `scale` parameter for this kind and returns the texture
+    /// with the world-space scale that draws the pattern the paper's ray tracer drew.
+    ///
+    /// The original multiplies the point by its scale (a frequency) for the noise kinds, with
+    /// extra constant factors; Checkerboard's is already a cell size. Non-positive values give
+    /// an infinite or negative scale, which [`Texture::validate`] rejects.
+    pub fn from_scn_scale(self) -> Texture {
+        match self {
+            Texture::Solid(_) | Texture::Checkerboard { .. } => self,
+            // Noise at 0.05 * s * p.
+            Texture::Turbulence { a, b, scale } => Texture::Turbulence {
+                a,
+                b,
+                scale: 20.0 / scale,
+            },
+            // Noise at 0.05 * s * p (times 3 along y), sine of 0.05 * s * (x + y).
+            Texture::Marble { a, b, scale } => Texture::Marble {
+                a,
+                b,
+                scale: 20.0 / scale,
+            },
+            // Noise at s * p.
+            Texture::Wood { a, b, scale } => Texture::Wood {
+                a,
+                b,
+                scale: 1.0 / scale,
+            },
+            // Noise at 0.5 * s * p times the per-axis factors.
+            Texture::CrissCross { a, b, c, scale } => Texture::CrissCross {
+                a,
+                b,
+                c,
+                scale: 2.0 / scale,
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
