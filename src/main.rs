@@ -2,7 +2,9 @@
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+mod cli_bench;
+
+use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
 use lumis::output::{ExrMetadata, write_by_extension};
 use lumis::render::{RenderOptions, render};
 use lumis::stats::{PhaseTimes, summary};
@@ -25,6 +27,15 @@ struct Cli {
 enum Command {
     /// Render a scene (the default scene when none is given) to EXR and/or PNG.
     Render(RenderArgs),
+    /// Measure performance.
+    #[command(subcommand)]
+    Bench(BenchCommand),
+}
+
+#[derive(Subcommand, Debug)]
+enum BenchCommand {
+    /// The paper's Table I: every scene under bsp, bsmp and sah with and without scale lights.
+    Paper(cli_bench::PaperArgs),
 }
 
 #[derive(Args, Debug)]
@@ -58,9 +69,18 @@ struct RenderArgs {
     /// Acceleration structure.
     #[arg(long, value_enum, default_value_t = AccelKind::Sah)]
     accel: AccelKind,
-    /// Largest leaf of the hierarchies.
-    #[arg(long, default_value_t = BuildOptions::default().max_leaf_size)]
-    leaf_size: usize,
+    /// How the hierarchy is walked: front-to-back, or the paper's scale-lights segments.
+    #[arg(long, value_enum, default_value_t = TraversalKind::Ordered)]
+    traversal: TraversalKind,
+    /// First segment length of the segments traversal (world units).
+    #[arg(long, default_value_t = 2.0)]
+    segment_init: f32,
+    /// Segments double up to this length, then one unbounded pass follows.
+    #[arg(long, default_value_t = lumis::bench::PAPER_SEGMENT_MAX)]
+    segment_max: f32,
+    /// Largest leaf of the hierarchies (default: 4 for sah, 20 for bsp and bsmp, as in the paper).
+    #[arg(long)]
+    leaf_size: Option<usize>,
     /// Write 32-bit float RGBA to EXR instead of half.
     #[arg(long)]
     float: bool,
@@ -76,6 +96,7 @@ fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
         Some(Command::Render(args)) => run_render(args),
+        Some(Command::Bench(BenchCommand::Paper(args))) => cli_bench::run_paper(args),
         None => run_render(&cli.render),
     };
     if let Err(e) = result {
@@ -96,20 +117,21 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     st.height = args.height.unwrap_or(st.height);
     st.spp = args.spp.unwrap_or(st.spp);
     st.max_depth = args.max_depth.unwrap_or(st.max_depth);
-    if args.leaf_size == 0 {
+    let build = BuildOptions {
+        max_leaf_size: args.leaf_size.unwrap_or(args.accel.default_leaf_size()),
+    };
+    if build.max_leaf_size == 0 {
         bail!("--leaf-size must be at least 1");
     }
+    let traversal = args
+        .traversal
+        .with_params(args.segment_init, args.segment_max)?;
     let outputs = output_paths(args)?;
     times.load = t.elapsed();
 
     let t = Instant::now();
-    let accel = Accel::build(
-        args.accel,
-        &scene.geometry().prim_bounds(),
-        &BuildOptions {
-            max_leaf_size: args.leaf_size,
-        },
-    );
+    let accel =
+        Accel::build(args.accel, &scene.geometry().prim_bounds(), &build).with_traversal(traversal);
     times.build = t.elapsed();
 
     let t = Instant::now();
@@ -176,6 +198,27 @@ fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
         );
     }
     Ok(paths)
+}
+
+/// The `--traversal` choice; segment lengths come from their own flags.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum TraversalKind {
+    Ordered,
+    Segments,
+}
+
+impl TraversalKind {
+    fn with_params(self, init: f32, max: f32) -> Result<Traversal> {
+        match self {
+            TraversalKind::Ordered => Ok(Traversal::Ordered),
+            TraversalKind::Segments if init > 0.0 && init.is_finite() && max.is_finite() => {
+                Ok(Traversal::Segments(SegmentParams { init, max }))
+            }
+            TraversalKind::Segments => {
+                bail!("--segment-init must be positive and both segment lengths finite")
+            }
+        }
+    }
 }
 
 fn has_extension(p: &Path, ext: &str) -> bool {

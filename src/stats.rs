@@ -47,9 +47,10 @@ pub fn summary(
         let per = |x: u64| x as f64 / total.max(1) as f64;
         let _ = writeln!(
             s,
-            "traversal: {:.2} nodes visited/ray, {:.2} primitive tests/ray",
+            "traversal: {:.2} nodes visited/ray, {:.2} primitive tests/ray, {:.2} segments/ray",
             per(counts.traversal.nodes_visited),
-            per(counts.traversal.prim_tests)
+            per(counts.traversal.prim_tests),
+            per(counts.traversal.segments)
         );
         let _ = writeln!(
             s,
