@@ -5,10 +5,54 @@
 
 use super::{Closest, Hit, TraversalStats};
 use crate::geometry::PrimHit;
-use crate::math::{Aabb, Ray, Vec3A, safe_inverse};
+use crate::math::{Aabb, Ray, Vec3A, gamma, safe_inverse};
 
 /// Traversal stack depth; builders stop splitting well before this (depth is checked in `validate`).
 pub(crate) const MAX_DEPTH: usize = 64;
+
+/// Relative widening of the `t_max` that boxes are culled against (see [`CullBound`]).
+const CULL_SCALE: f32 = 1.0 + gamma(16);
+
+/// The bound boxes are culled against. Culling must never drop a primitive whose hit brute
+/// force would report, yet a primitive's computed `t` can round below its own box's computed
+/// entry: a vertex or flat triangle on the box face by a few ulps of `t`, a sphere seen from
+/// just outside it by ulps of the coordinates (`|f|^2 - r^2` cancels). So boxes are tested
+/// against `t_max` widened relatively and by an absolute term scaled to the coordinates; leaves
+/// still test primitives against the exact `t_max`, so answers stay bit-identical.
+#[derive(Clone, Copy)]
+pub(crate) struct CullBound {
+    slack: f32,
+}
+
+impl CullBound {
+    /// The absolute slack for `ray` in a scene bounded by `root`: gamma(16) of the largest
+    /// coordinate magnitude, in units of `t` (divided by the direction's length).
+    #[inline(always)]
+    pub(crate) fn new(ray: &Ray, root: &Aabb) -> Self {
+        let scale = ray
+            .origin
+            .abs()
+            .max(root.min.abs())
+            .max(root.max.abs())
+            .max_element();
+        Self {
+            slack: gamma(16) * scale / ray.dir.length(),
+        }
+    }
+
+    /// `t_max` widened for the box test.
+    #[inline(always)]
+    pub(crate) fn widen(self, t_max: f32) -> f32 {
+        t_max * CULL_SCALE + self.slack
+    }
+
+    /// `t_min` lowered for the box test: a hit just after the origin may round to a `t` past
+    /// the exit of a box the origin lies just outside of (a ray leaving a surface).
+    #[inline(always)]
+    pub(crate) fn lower(self, t_min: f32) -> f32 {
+        t_min - self.slack
+    }
+}
 
 /// One node of the flat array.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,7 +102,24 @@ impl Bvh {
     }
 
     /// Nearest hit, visiting children front to back and culling with the shrinking `t_max`.
-    pub fn intersect<F>(&self, ray: &Ray, stats: &mut TraversalStats, mut test: F) -> Option<Hit>
+    pub fn intersect<F>(&self, ray: &Ray, stats: &mut TraversalStats, test: F) -> Option<Hit>
+    where
+        F: FnMut(u32, &Ray) -> Option<PrimHit>,
+    {
+        // Only a zero (or denormal) direction component can make the slab test meet `0 * inf`.
+        if safe_inverse(ray.dir).is_finite() {
+            self.intersect_with::<false, F>(ray, stats, test)
+        } else {
+            self.intersect_with::<true, F>(ray, stats, test)
+        }
+    }
+
+    fn intersect_with<const AXIS_PARALLEL: bool, F>(
+        &self,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        mut test: F,
+    ) -> Option<Hit>
     where
         F: FnMut(u32, &Ray) -> Option<PrimHit>,
     {
@@ -71,8 +132,12 @@ impl Bvh {
         let mut stack = [0u32; MAX_DEPTH + 1];
         let mut sp = 0;
         let mut node = &self.nodes[0];
+        let cull = CullBound::new(ray, &node.bounds);
+        // Fixed for the whole traversal: only `t_max` shrinks as hits are found.
+        let t_min = cull.lower(ray.t_min);
         stats.nodes_visited += 1;
-        node.bounds.hit_range(origin, inv, ray.t_min, ray.t_max)?;
+        node.bounds
+            .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, cull.widen(ray.t_max))?;
         loop {
             if node.is_leaf() {
                 for &prim in self.leaf_prims(node) {
@@ -87,9 +152,15 @@ impl Bvh {
                     &self.nodes[node.first as usize + 1],
                 );
                 stats.nodes_visited += 2;
-                let (t_min, t_max) = (closest.ray.t_min, closest.ray.t_max);
-                let hl = l.bounds.hit_range(origin, inv, t_min, t_max).map(|h| h.0);
-                let hr = r.bounds.hit_range(origin, inv, t_min, t_max).map(|h| h.0);
+                let t_max = cull.widen(closest.ray.t_max);
+                let hl = l
+                    .bounds
+                    .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, t_max)
+                    .map(|h| h.0);
+                let hr = r
+                    .bounds
+                    .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, t_max)
+                    .map(|h| h.0);
                 match (hl, hr) {
                     (Some(a), Some(b)) => {
                         let (near, far) = if a <= b {
@@ -121,7 +192,12 @@ impl Bvh {
                 sp -= 1;
                 let n = &self.nodes[stack[sp] as usize];
                 if n.bounds
-                    .hit_range(origin, inv, closest.ray.t_min, closest.ray.t_max)
+                    .hit_range_with::<AXIS_PARALLEL>(
+                        origin,
+                        inv,
+                        t_min,
+                        cull.widen(closest.ray.t_max),
+                    )
                     .is_some()
                 {
                     node = n;
@@ -132,7 +208,23 @@ impl Bvh {
     }
 
     /// Any hit: returns at the first primitive that blocks the ray.
-    pub fn occluded<F>(&self, ray: &Ray, stats: &mut TraversalStats, mut test: F) -> bool
+    pub fn occluded<F>(&self, ray: &Ray, stats: &mut TraversalStats, test: F) -> bool
+    where
+        F: FnMut(u32, &Ray) -> bool,
+    {
+        if safe_inverse(ray.dir).is_finite() {
+            self.occluded_with::<false, F>(ray, stats, test)
+        } else {
+            self.occluded_with::<true, F>(ray, stats, test)
+        }
+    }
+
+    fn occluded_with<const AXIS_PARALLEL: bool, F>(
+        &self,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        mut test: F,
+    ) -> bool
     where
         F: FnMut(u32, &Ray) -> bool,
     {
@@ -141,6 +233,8 @@ impl Bvh {
         }
         let origin = Vec3A::from(ray.origin);
         let inv = safe_inverse(ray.dir);
+        let cull = CullBound::new(ray, &self.nodes[0].bounds);
+        let (t_min, t_max) = (cull.lower(ray.t_min), cull.widen(ray.t_max));
         let mut stack = [0u32; MAX_DEPTH + 1];
         stack[0] = 0;
         let mut sp = 1;
@@ -150,7 +244,7 @@ impl Bvh {
             stats.nodes_visited += 1;
             if node
                 .bounds
-                .hit_range(origin, inv, ray.t_min, ray.t_max)
+                .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, t_max)
                 .is_none()
             {
                 continue;

@@ -5,13 +5,14 @@
 //! Two defects of the original are fixed here:
 //! - The original marks searched nodes with flags inside the shared tree (a data race between
 //!   threads). Here nothing is stored at all: a leaf was searched by an earlier segment exactly
-//!   when the ray enters its box at or before the current `t0` (its entry distance is computed
-//!   the same way every time, so the test is exact), so the per-ray state is just `t0`.
+//!   when the ray enters its box at or before the (conservatively widened) current `t0` — its
+//!   entry distance is computed the same way every time, so the test is exact — and the per-ray
+//!   state is just `t0`.
 //! - The original returns the first hit found, which may lie in a later segment than a nearer
 //!   hit in a leaf not searched yet. Here a hit is accepted only once `t <= t1` of the segment
 //!   just finished; a farther one is kept as a candidate (and culls by its distance) meanwhile.
 
-use super::bvh::{Bvh, MAX_DEPTH, Node};
+use super::bvh::{Bvh, CullBound, MAX_DEPTH, Node};
 use super::{Closest, Hit, TraversalStats};
 use crate::geometry::PrimHit;
 use crate::math::{Ray, Vec3A, safe_inverse};
@@ -126,6 +127,22 @@ impl Bvh {
         accept_any: bool,
         visit: &mut dyn FnMut(u32, &mut Closest) -> bool,
     ) -> Option<Hit> {
+        // As in the ordered traversal: the NaN-safe slab test only for axis-parallel rays.
+        if safe_inverse(ray.dir).is_finite() {
+            self.walk_with::<false>(ray, p, stats, accept_any, visit)
+        } else {
+            self.walk_with::<true>(ray, p, stats, accept_any, visit)
+        }
+    }
+
+    fn walk_with<const AXIS_PARALLEL: bool>(
+        &self,
+        ray: &Ray,
+        p: &SegmentParams,
+        stats: &mut TraversalStats,
+        accept_any: bool,
+        visit: &mut dyn FnMut(u32, &mut Closest) -> bool,
+    ) -> Option<Hit> {
         if self.nodes().is_empty() {
             return None;
         }
@@ -134,9 +151,15 @@ impl Bvh {
         let mut closest = Closest::new(ray);
         let mut seg = Segments::new(ray, p);
         let nodes = self.nodes();
+        // Boxes are tested against widened bounds (see `CullBound`): a primitive's computed `t`
+        // may round just outside its own box's computed interval. Widening is monotonic, so the
+        // per-segment ranges `(widen(t0), widen(t1)]` still partition the leaves exactly.
+        let cull = CullBound::new(ray, &nodes[0].bounds);
+        let t_min = cull.lower(ray.t_min);
         let mut stack = [0u32; MAX_DEPTH + 1];
         loop {
             let t1 = seg.t1();
+            let searched_up_to = cull.widen(seg.t0);
             stats.segments += 1;
             stack[0] = 0;
             let mut sp = 1;
@@ -144,19 +167,20 @@ impl Bvh {
                 sp -= 1;
                 let node: &Node = &nodes[stack[sp] as usize];
                 stats.nodes_visited += 1;
-                let upper = t1.min(closest.ray.t_max);
-                let Some((near, far)) =
-                    node.bounds.hit_range(origin, inv, closest.ray.t_min, upper)
+                let upper = cull.widen(t1.min(closest.ray.t_max));
+                let Some((near, far)) = node
+                    .bounds
+                    .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, upper)
                 else {
                     continue;
                 };
-                // Entirely before this segment: everything in it was searched already.
-                if far < seg.t0 {
+                // Entirely before this segment: every leaf below was searched already.
+                if seg.index > 0 && far <= searched_up_to {
                     continue;
                 }
                 if node.is_leaf() {
-                    // Entered at or before t0: an earlier segment searched this leaf.
-                    if seg.index > 0 && near <= seg.t0 {
+                    // Entered within an earlier segment's range: that segment searched this leaf.
+                    if seg.index > 0 && near <= searched_up_to {
                         continue;
                     }
                     for &prim in self.leaf_prims(node) {
