@@ -117,3 +117,67 @@ fn missing_scene_and_bad_output_extension_fail_cleanly() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("x.jpg"));
     assert!(files_in(dir.path()).is_empty());
 }
+
+#[test]
+fn png_bytes_do_not_depend_on_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    for (threads, name) in [("1", "t1.png"), ("2", "t2.png")] {
+        let out = lumis()
+            .current_dir(dir.path())
+            .args([
+                "-q",
+                "--width",
+                "40",
+                "--height",
+                "24",
+                "--spp",
+                "2",
+                "--seed",
+                "9",
+                "--threads",
+                threads,
+                "-o",
+                name,
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let a = std::fs::read(dir.path().join("t1.png")).unwrap();
+    let b = std::fs::read(dir.path().join("t2.png")).unwrap();
+    assert_eq!(a, b, "PNG bytes differ between --threads 1 and --threads 2");
+}
+
+#[test]
+fn out_of_range_flags_fail_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: [(&[&str], &str); 3] = [
+        (&["--max-depth", "100000"], "max depth is 100000"),
+        (
+            &["--spp", "100000"],
+            "samples per pixel (per axis) is 100000",
+        ),
+        (
+            &["--width", "100000", "--height", "20000"],
+            "image size 100000x20000",
+        ),
+    ];
+    for (args, message) in cases {
+        let out = lumis()
+            .current_dir(dir.path())
+            .args(args)
+            .arg("-q")
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && stderr.contains(message) && !stderr.contains("panicked"),
+            "{args:?}: {stderr}"
+        );
+    }
+    assert!(files_in(dir.path()).is_empty());
+}

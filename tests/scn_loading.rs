@@ -157,6 +157,7 @@ fn bad_input_names_file_and_line() {
             "finite",
         ),
         ("maxReflections 2.5\n", "dir/bad.scn:1:", "whole number"),
+        ("maxReflections 100000\n", "dir/bad.scn:1:", "0..=64"),
     ];
     for (text, location, what) in cases {
         let e = error_of(text);

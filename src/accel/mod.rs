@@ -9,6 +9,7 @@
 
 mod brute;
 mod bsp;
+mod build;
 mod bvh;
 pub(crate) mod sah;
 mod segments;

@@ -1,7 +1,8 @@
 //! Binned surface-area-heuristic builder (Wald 2007): 16 centroid bins per axis, all three axes.
 
 use super::BuildOptions;
-use super::bvh::{Bvh, MAX_DEPTH, Node};
+use super::build::{build_hierarchy, partition};
+use super::bvh::Bvh;
 use crate::math::{Aabb, Vec3};
 
 const BINS: usize = 16;
@@ -10,80 +11,39 @@ const TRAVERSAL_COST: f32 = 1.0;
 
 /// Builds a SAH hierarchy over primitives with the given bounds.
 pub fn build(bounds: &[Aabb], opts: &BuildOptions) -> Bvh {
-    if bounds.is_empty() {
-        return Bvh::from_parts(Vec::new(), Vec::new());
-    }
     let centroids: Vec<Vec3> = bounds.iter().map(Aabb::center).collect();
-    let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
-    let mut nodes = Vec::with_capacity(2 * bounds.len() / opts.max_leaf_size.max(1) + 1);
-    nodes.push(Node {
-        bounds: Aabb::EMPTY,
-        first: 0,
-        count: 0,
-    });
-    let mut b = Builder {
+    let sah = Sah {
         bounds,
         centroids: &centroids,
-        nodes,
-        max_leaf: opts.max_leaf_size.max(1),
     };
-    b.split(0, &mut order, 0, 1);
-    Bvh::from_parts(b.nodes, order)
+    let max_leaf = opts.max_leaf_size.max(1);
+    build_hierarchy(bounds, &mut |order, node_bounds, _depth| {
+        sah.cut(order, node_bounds, max_leaf)
+    })
 }
 
-struct Builder<'a> {
+struct Sah<'a> {
     bounds: &'a [Aabb],
     centroids: &'a [Vec3],
-    nodes: Vec<Node>,
-    max_leaf: usize,
 }
 
-impl Builder<'_> {
-    /// Fills node `index` with the primitives `order` (which start at `offset` in the final order).
-    fn split(&mut self, index: usize, order: &mut [u32], offset: usize, depth: usize) {
-        let node_bounds = order
-            .iter()
-            .fold(Aabb::EMPTY, |b, &p| b.union(self.bounds[p as usize]));
-        let centroid_bounds = Aabb::from_points(order.iter().map(|&p| self.centroids[p as usize]));
+impl Sah<'_> {
+    /// Splits at the cheapest bin boundary when that beats a leaf (or the node is too big to
+    /// be one); `None` makes a leaf.
+    fn cut(&self, order: &mut [u32], node_bounds: &Aabb, max_leaf: usize) -> Option<usize> {
         let n = order.len();
-        let leaf = Node {
-            bounds: node_bounds,
-            first: offset as u32,
-            count: n as u32,
-        };
-        if n <= 1 || depth >= MAX_DEPTH {
-            self.nodes[index] = leaf;
-            return;
-        }
-        let mid = match self.best_split(order, &centroid_bounds, &node_bounds) {
-            Some((axis, bin, cost)) if cost < n as f32 || n > self.max_leaf => {
+        let centroid_bounds = Aabb::from_points(order.iter().map(|&p| self.centroids[p as usize]));
+        match self.best_split(order, &centroid_bounds, node_bounds) {
+            Some((axis, bin, cost)) if cost < n as f32 || n > max_leaf => {
                 let (lo, scale) = bin_mapping(&centroid_bounds, axis);
-                partition(order, |p| {
+                Some(partition(order, |p| {
                     bin_of(self.centroids[p as usize][axis], lo, scale) < bin
-                })
-            }
-            Some(_) => {
-                self.nodes[index] = leaf;
-                return;
+                }))
             }
             // All centroids coincide: no plane separates them, so halve by index to keep leaves small.
-            None if n > self.max_leaf => n / 2,
-            None => {
-                self.nodes[index] = leaf;
-                return;
-            }
-        };
-        let first = self.nodes.len();
-        self.nodes.push(leaf);
-        self.nodes.push(leaf);
-        self.nodes[index] = Node {
-            bounds: node_bounds,
-            first: first as u32,
-            count: 0,
-        };
-        let (left, right) = order.split_at_mut(mid);
-        self.split(first, left, offset, depth + 1);
-        self.split(first + 1, right, offset + mid, depth + 1);
+            None if n > max_leaf => Some(n / 2),
+            _ => None,
+        }
     }
 
     /// Best `(axis, first bin of the right side, cost)`, cost in units of primitive tests.
@@ -139,16 +99,4 @@ fn bin_mapping(cb: &Aabb, axis: usize) -> (f32, f32) {
 #[inline(always)]
 fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
     (((c - lo) * scale) as usize).min(BINS - 1)
-}
-
-/// Reorders `items` so those satisfying `left` come first; returns how many do.
-pub(crate) fn partition(items: &mut [u32], mut left: impl FnMut(u32) -> bool) -> usize {
-    let mut mid = 0;
-    for i in 0..items.len() {
-        if left(items[i]) {
-            items.swap(i, mid);
-            mid += 1;
-        }
-    }
-    mid
 }

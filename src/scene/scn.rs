@@ -94,9 +94,13 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
             "cameraScreenWidth" => cam.screen_width = p.positive("screen width")?,
             "dispersion" => cam.dispersion = p.number("dispersion")?,
             "depthComplexity" => {
-                b.settings_mut().lens_samples = p.count("depth complexity")?.max(1)
+                b.settings_mut().lens_samples =
+                    p.count("depth complexity", crate::render::MAX_SPP)?.max(1)
             }
-            "maxReflections" => b.settings_mut().max_depth = p.count("maximum reflections")?,
+            "maxReflections" => {
+                b.settings_mut().max_depth =
+                    p.count("maximum reflections", crate::render::MAX_DEPTH)?
+            }
             "light" => {
                 let position = p.vec3("light position")?;
                 let intensity = p.number("light intensity")?;
@@ -271,14 +275,15 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn count(&mut self, what: &str) -> Result<u32, ScnError> {
+    /// A whole number in `0..=max` (the renderer's limits: see `render::MAX_DEPTH`, `MAX_SPP`).
+    fn count(&mut self, what: &str, max: u32) -> Result<u32, ScnError> {
         let v = self.number(what)?;
-        if v >= 0.0 && v.fract() == 0.0 && v <= 1e6 {
+        if v >= 0.0 && v.fract() == 0.0 && v <= max as f32 {
             Ok(v as u32)
         } else {
             Err(self.err(
                 self.line(),
-                format!("{what} must be a whole number >= 0, found {v}"),
+                format!("{what} must be a whole number in 0..={max}, found {v}"),
             ))
         }
     }
