@@ -112,6 +112,11 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         Some(path) => lumis::scene::load(path)?,
         None => lumis::scene::default_scene().context("loading the built-in default scene")?,
     };
+    if !args.quiet {
+        for w in scene.warnings() {
+            eprintln!("warning: {w}");
+        }
+    }
     let st = scene.settings_mut();
     st.width = args.width.unwrap_or(st.width);
     st.height = args.height.unwrap_or(st.height);

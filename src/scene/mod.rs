@@ -122,6 +122,7 @@ pub struct Scene {
     lights: Vec<Light>,
     camera: Camera,
     settings: Settings,
+    warnings: Vec<String>,
 }
 
 /// A hit with its surface geometry and owning object.
@@ -171,6 +172,11 @@ impl Scene {
     /// Camera.
     pub fn camera(&self) -> &Camera {
         &self.camera
+    }
+
+    /// Problems the loaders survived, in the order met (each names its file).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// Render settings.
@@ -254,6 +260,7 @@ pub struct SceneBuilder {
     materials: Vec<Material>,
     lights: Vec<Light>,
     settings: Settings,
+    warnings: Vec<String>,
 }
 
 impl Default for SceneBuilder {
@@ -272,6 +279,7 @@ impl SceneBuilder {
             materials: Vec::new(),
             lights: Vec::new(),
             settings: Settings::default(),
+            warnings: Vec::new(),
         }
     }
 
@@ -348,6 +356,13 @@ impl SceneBuilder {
             lights: self.lights,
             camera,
             settings: self.settings,
+            warnings: self.warnings,
         }
+    }
+
+    /// Records a problem the load survived (a missing texture, ignored elements); the CLI
+    /// prints these before rendering.
+    pub fn warn(&mut self, message: impl Into<String>) {
+        self.warnings.push(message.into());
     }
 }
