@@ -3,6 +3,7 @@
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 mod cli_bench;
+mod cli_info;
 
 use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
 use lumis::output::{ExrMetadata, write_by_extension};
@@ -27,6 +28,12 @@ struct Cli {
 enum Command {
     /// Render a scene (the default scene when none is given) to EXR and/or PNG.
     Render(RenderArgs),
+    /// Print what a scene or model file holds (geometry, materials, lights, camera, bounds,
+    /// warnings) without rendering.
+    Info {
+        /// Scene or model file.
+        file: PathBuf,
+    },
     /// Measure performance.
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -97,6 +104,7 @@ fn main() {
     let result = match &cli.command {
         Some(Command::Render(args)) => run_render(args),
         Some(Command::Bench(BenchCommand::Paper(args))) => cli_bench::run_paper(args),
+        Some(Command::Info { file }) => cli_info::run_info(file),
         None => run_render(&cli.render),
     };
     if let Err(e) = result {

@@ -181,3 +181,30 @@ fn out_of_range_flags_fail_before_rendering() {
     }
     assert!(files_in(dir.path()).is_empty());
 }
+
+#[test]
+fn info_describes_a_scene_without_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/default.toml");
+    let out = lumis()
+        .current_dir(dir.path())
+        .args(["info", scene])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for needle in [
+        "objects: 7 (6 spheres, 1 meshes with 1920 triangles",
+        "materials: 7",
+        "lights: 2",
+        "bounds:",
+        "warnings: 0",
+    ] {
+        assert!(stdout.contains(needle), "missing {needle:?} in {stdout}");
+    }
+    assert!(files_in(dir.path()).is_empty(), "info must not write files");
+}

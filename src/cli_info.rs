@@ -1,0 +1,77 @@
+//! `lumis info FILE`: what a scene or model file holds, without rendering.
+
+use anyhow::Result;
+use lumis::scene::Scene;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Loads `path` and prints its contents.
+pub fn run_info(path: &Path) -> Result<()> {
+    let scene = lumis::scene::load(path)?;
+    print!("{}", describe(path, &scene));
+    Ok(())
+}
+
+/// The report: geometry, materials, lights, camera, bounds, settings and warnings.
+fn describe(path: &Path, scene: &Scene) -> String {
+    let g = scene.geometry();
+    let triangles: usize = g.meshes().iter().map(|m| m.triangle_count()).sum();
+    let b = g.bounds();
+    let mut s = String::new();
+    let _ = writeln!(s, "file: {}", path.display());
+    let _ = writeln!(
+        s,
+        "objects: {} ({} spheres, {} meshes with {} triangles; {} primitives)",
+        scene.objects().len(),
+        g.spheres().len(),
+        g.meshes().len(),
+        triangles,
+        g.prims().len()
+    );
+    if b.is_empty() {
+        let _ = writeln!(s, "bounds: empty");
+    } else {
+        let _ = writeln!(s, "bounds: min {} max {}", b.min, b.max);
+    }
+    let _ = writeln!(s, "materials: {}", scene.materials().len());
+    for (i, o) in scene.objects().iter().enumerate().take(20) {
+        let m = &scene.materials()[o.material as usize];
+        let _ = writeln!(
+            s,
+            "  object {i} {:?}: material {} (reflectivity {}, transmission {}, ior {}, emission {})",
+            o.name, o.material, m.reflectivity, m.transmission, m.ior, m.emission
+        );
+    }
+    if scene.objects().len() > 20 {
+        let _ = writeln!(s, "  ... and {} more objects", scene.objects().len() - 20);
+    }
+    let _ = writeln!(s, "lights: {}", scene.lights().len());
+    for light in scene.lights() {
+        let _ = writeln!(s, "  {light:?}");
+    }
+    let cam = scene.camera();
+    let _ = writeln!(
+        s,
+        "camera: at {} looking along {} (lens {:?})",
+        cam.position(),
+        cam.forward(),
+        cam.lens()
+    );
+    let st = scene.settings();
+    let _ = writeln!(
+        s,
+        "render: {}x{}, {}x{} samples, max depth {}, ambient {}, background {}",
+        st.width, st.height, st.spp, st.spp, st.max_depth, st.ambient, st.background
+    );
+    let e = scene.effects();
+    let _ = writeln!(
+        s,
+        "effects: shadows {}, reflection {}, refraction {}, depth of field {}",
+        e.shadows, e.reflection, e.refraction, e.depth_of_field
+    );
+    let _ = writeln!(s, "warnings: {}", scene.warnings().len());
+    for w in scene.warnings() {
+        let _ = writeln!(s, "  {w}");
+    }
+    s
+}
