@@ -228,3 +228,60 @@ fn ground_sphere_of_radius_1e4_shows_no_shadow_acne() {
         "{speckles} ground pixels differ from the analytic {expected}"
     );
 }
+
+#[test]
+fn hit_points_computed_with_cancellation_do_not_shadow_themselves() {
+    // Camera 25 units above a ground sphere (r = 1e4, top at z = 0), looking down: o.z + t d.z
+    // cancels, so the f32 hit point is ~1e-6 off the surface while |p.z| is only ~0.04 — more
+    // than an offset of a few ulps of p.z covers. (The paper's ballsOnAPlaneClose showed it as
+    // speckles.) The ground must be uniformly lit.
+    let mut b = SceneBuilder::new();
+    let s = b.settings_mut();
+    (s.width, s.height, s.spp, s.ambient) = (128, 72, 1, Vec3::splat(0.1));
+    let ground = b.add_material(Material {
+        diffuse: Texture::Solid(Vec3::splat(0.5)),
+        ..Material::default()
+    });
+    b.add_sphere(
+        "ground",
+        Sphere {
+            center: Vec3::new(0.0, 0.0, -1e4),
+            radius: 1e4,
+        },
+        ground,
+    );
+    let dir = Vec3::new(0.2, -0.5, -1.0).normalize();
+    b.add_light(Light::Directional {
+        direction: dir,
+        irradiance: Vec3::splat(3.0),
+    });
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 0.0, 25.0),
+        Vec3::new(0.0, 0.0, 9.0),
+        Vec3::Y,
+        110.0,
+        0.0,
+        None,
+    )
+    .unwrap();
+    let scene = b.build(cam);
+    let accel = Accel::build(
+        AccelKind::Sah,
+        &scene.geometry().prim_bounds(),
+        &BuildOptions::default(),
+    );
+    let film = render(&scene, &accel, &RenderOptions::default())
+        .unwrap()
+        .film;
+    // Over |x|, |y| < 40 the sphere's normal tilts by < 0.004 rad: cos changes < 0.5%.
+    let expected = 0.1 * 0.5 + 0.5 / std::f32::consts::PI * 3.0 * -dir.z;
+    let dark = film
+        .rgba()
+        .iter()
+        .filter(|p| (p.x - expected).abs() > 0.01 * expected)
+        .count();
+    assert_eq!(
+        dark, 0,
+        "{dark} ground pixels differ from the analytic {expected}"
+    );
+}

@@ -11,7 +11,7 @@ pub use mesh::{Mesh, MeshError};
 pub use sphere::Sphere;
 pub use triangle::{TriangleHit, WatertightRay, face_normal, intersect_triangle};
 
-use crate::math::{Aabb, Ray, Vec2, Vec3};
+use crate::math::{Aabb, Ray, Vec2, Vec3, gamma, offset_ray_origin};
 
 /// One intersectable primitive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,6 +44,24 @@ pub struct SurfacePoint {
     pub ns: Vec3,
     /// Texture coordinates.
     pub uv: Vec2,
+    /// Per-component bound on the absolute error of `p` (pbrt's `pError`): how far the computed
+    /// point may lie from the true surface, for offsetting secondary rays.
+    pub p_error: Vec3,
+}
+
+impl SurfacePoint {
+    /// Origin for a ray leaving this point along `dir`: pushed off the surface past the error
+    /// bound of `p` along the geometric normal, then a few ulps more
+    /// ([`crate::math::offset_ray_origin`]), to the side `dir` points to.
+    pub fn spawn_origin(&self, dir: Vec3) -> Vec3 {
+        let n = if self.ng.dot(dir) < 0.0 {
+            -self.ng
+        } else {
+            self.ng
+        };
+        let past_error = self.p + n * self.ng.abs().dot(self.p_error);
+        offset_ray_origin(past_error, n, dir)
+    }
 }
 
 /// All shapes of a scene and the flat primitive list the accelerators index.
@@ -139,7 +157,9 @@ impl Geometry {
         match self.prims[index as usize] {
             Primitive::Sphere { sphere } => {
                 let s = &self.spheres[sphere as usize];
-                let p = ray.at(hit.t);
+                // `o + t d` in f32 can cancel badly (o.z = 25, t d.z = -25); projecting onto
+                // the sphere in f64 leaves only the final rounding to f32 as error.
+                let p = s.project(ray.at(hit.t));
                 let n = s.normal_at(p);
                 let (u, v) = s.uv_at(p);
                 SurfacePoint {
@@ -147,13 +167,18 @@ impl Geometry {
                     ng: n,
                     ns: n,
                     uv: Vec2::new(u, v),
+                    p_error: p.abs() * gamma(2),
                 }
             }
             Primitive::Triangle { mesh, tri } => {
                 let m = &self.meshes[mesh as usize];
                 let [p0, p1, p2] = m.corners(tri);
-                // Interpolating the corners is more accurate than o + t d far from the origin.
-                let p = p0 * (1.0 - hit.u - hit.v) + p1 * hit.u + p2 * hit.v;
+                // Interpolating the corners is more accurate than o + t d far from the origin;
+                // its error bound is pbrt's for the barycentric sum.
+                let b0 = 1.0 - hit.u - hit.v;
+                let p = p0 * b0 + p1 * hit.u + p2 * hit.v;
+                let p_error =
+                    ((p0 * b0).abs() + (p1 * hit.u).abs() + (p2 * hit.v).abs()) * gamma(7);
                 let ng = face_normal(p0, p1, p2).normalize_or(Vec3::Y);
                 let ns = m
                     .shading_normal(tri, hit.u, hit.v)
@@ -163,6 +188,7 @@ impl Geometry {
                     ng,
                     ns,
                     uv: m.uv(tri, hit.u, hit.v),
+                    p_error,
                 }
             }
         }

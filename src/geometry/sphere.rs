@@ -63,6 +63,17 @@ impl Sphere {
         }
     }
 
+    /// The point of the surface nearest to `p` (computed in f64, then rounded).
+    pub fn project(&self, p: Vec3) -> Vec3 {
+        let c = self.center.as_dvec3();
+        let d = p.as_dvec3() - c;
+        let len = d.length();
+        if len == 0.0 {
+            return p;
+        }
+        (c + d * (self.radius as f64 / len)).as_vec3()
+    }
+
     /// Outward unit normal at a surface point.
     pub fn normal_at(&self, p: Vec3) -> Vec3 {
         ((p - self.center) / self.radius).normalize_or(Vec3::Y)

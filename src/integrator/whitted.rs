@@ -4,8 +4,9 @@
 
 use super::RayCounts;
 use crate::accel::Accel;
+use crate::geometry::SurfacePoint;
 use crate::material::{Material, fresnel_dielectric, reflect, refract};
-use crate::math::{Ray, Vec3, offset_ray_origin};
+use crate::math::{Ray, Vec3};
 use crate::scene::{Effects, Interaction, Scene};
 
 /// The Whitted integrator over one scene and its accelerator.
@@ -83,7 +84,7 @@ impl<'a> Whitted<'a> {
         let kd = m.diffuse.eval(s.p, s.uv);
         let mut l = m.emission + self.scene.settings().ambient * kd;
         if self.effects.shadows && m.is_lit() {
-            l += self.direct(m, kd, s.p, ng, ns, wo, counts);
+            l += self.direct(m, kd, s, ng, ns, wo, counts);
         }
         if depth >= self.max_depth {
             return l;
@@ -100,14 +101,14 @@ impl<'a> Whitted<'a> {
             mirror_weight += m.transmission * fresnel;
             if let Some(t) = refract(dir, ns, eta).filter(|_| fresnel < 1.0) {
                 counts.refraction += 1;
-                let r = Ray::new(offset_ray_origin(s.p, ng, t), t);
+                let r = Ray::new(s.spawn_origin(t), t);
                 l += m.transmission * (1.0 - fresnel) * self.trace(&r, depth + 1, counts);
             }
         }
         if self.effects.reflection && mirror_weight > 0.0 {
             counts.reflection += 1;
             let d = reflect(dir, ns);
-            let r = Ray::new(offset_ray_origin(s.p, ng, d), d);
+            let r = Ray::new(s.spawn_origin(d), d);
             l += mirror_weight * self.trace(&r, depth + 1, counts);
         }
         l
@@ -119,7 +120,7 @@ impl<'a> Whitted<'a> {
         &self,
         m: &Material,
         kd: Vec3,
-        p: Vec3,
+        s: &SurfacePoint,
         ng: Vec3,
         ns: Vec3,
         wo: Vec3,
@@ -127,13 +128,13 @@ impl<'a> Whitted<'a> {
     ) -> Vec3 {
         let mut l = Vec3::ZERO;
         for light in self.scene.lights() {
-            let ls = light.sample(p);
+            let ls = light.sample(s.p);
             let cos = ns.dot(ls.wi);
             // Lights behind the shading normal or below the geometric surface contribute nothing.
             if cos <= 0.0 || ng.dot(ls.wi) <= 0.0 {
                 continue;
             }
-            let origin = offset_ray_origin(p, ng, ls.wi);
+            let origin = s.spawn_origin(ls.wi);
             // Stop just short of a point light so the light's own position never counts as a blocker.
             let t_max = if ls.distance.is_finite() {
                 ls.distance * (1.0 - 1e-4)
