@@ -43,6 +43,14 @@ enum Command {
 enum BenchCommand {
     /// The paper's Table I: every scene under bsp, bsmp and sah with and without scale lights.
     Paper(cli_bench::PaperArgs),
+    /// Load time and peak memory for a generated >= 1M-triangle OBJ and GLB.
+    Load(cli_bench::LoadArgs),
+    /// One load, for `bench load`'s child processes: prints seconds and peak bytes.
+    #[command(hide = true)]
+    LoadOne {
+        /// The file to load.
+        file: PathBuf,
+    },
 }
 
 #[derive(Args, Debug)]
@@ -104,6 +112,8 @@ fn main() {
     let result = match &cli.command {
         Some(Command::Render(args)) => run_render(args),
         Some(Command::Bench(BenchCommand::Paper(args))) => cli_bench::run_paper(args),
+        Some(Command::Bench(BenchCommand::Load(args))) => cli_bench::run_load(args),
+        Some(Command::Bench(BenchCommand::LoadOne { file })) => cli_bench::run_load_one(file),
         Some(Command::Info { file }) => cli_info::run_info(file),
         None => run_render(&cli.render),
     };
