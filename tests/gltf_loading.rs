@@ -269,3 +269,32 @@ fn pbr_materials_map_by_the_documented_rules() {
     };
     assert!(close(kd, Vec3::new(0.05, 0.1, 0.15)));
 }
+
+#[test]
+fn cli_renders_a_glb_directly_and_chooses_cameras() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_lumis"))
+            .current_dir(dir.path())
+            .arg("render")
+            .arg(asset("lights_camera.gltf"))
+            .args(["--width", "24", "--height", "16", "--spp", "1", "--quiet"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let out = run(&["-o", "a.png", "--camera", "0", "--gltf-scene", "0"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.path().join("a.png").exists());
+    let out = run(&["-o", "b.png", "--camera", "4"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("camera 4"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("b.png").exists());
+}

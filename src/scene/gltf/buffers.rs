@@ -64,7 +64,24 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<(Document, Option<Vec<u
             ));
         }
     }
-    let document = Document::from_json(document.into_json()).map_err(|e| fail(describe(&e)))?;
+    let json = document.into_json();
+    // gltf-json's validation indexes the POSITION accessor before checking that it exists.
+    let accessors = json.accessors.len();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            if let Some(bad) = prim.attributes.values().find(|i| i.value() >= accessors) {
+                return Err(SceneError::invalid(
+                    path,
+                    format!("meshes[{m}].primitives[{p}].attributes"),
+                    format!(
+                        "accessor {} does not exist (the file has {accessors})",
+                        bad.value()
+                    ),
+                ));
+            }
+        }
+    }
+    let document = Document::from_json(json).map_err(|e| fail(describe(&e)))?;
     Ok((document, blob))
 }
 
