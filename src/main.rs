@@ -55,7 +55,7 @@ enum BenchCommand {
 
 #[derive(Args, Debug)]
 struct RenderArgs {
-    /// Scene file (.toml); the built-in default scene when omitted.
+    /// Scene file (.toml, .scn, .obj, .gltf or .glb); the built-in default scene when omitted.
     scene: Option<PathBuf>,
     /// Output image; the format follows the extension (.exr or .png). Default: out.exr and out.png.
     #[arg(short, long)]
@@ -96,6 +96,13 @@ struct RenderArgs {
     /// Largest leaf of the hierarchies (default: 4 for sah, 20 for bsp and bsmp, as in the paper).
     #[arg(long)]
     leaf_size: Option<usize>,
+    /// glTF files: index of the scene to render (default: the file's default scene).
+    #[arg(long, value_name = "N")]
+    gltf_scene: Option<usize>,
+    /// glTF files: look through the N-th camera met depth first in the scene (default: the
+    /// first; the automatic framing camera when the file has none).
+    #[arg(long, value_name = "N")]
+    camera: Option<usize>,
     /// Write 32-bit float RGBA to EXR instead of half.
     #[arg(long)]
     float: bool,
@@ -127,7 +134,16 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     let mut times = PhaseTimes::default();
     let t = Instant::now();
     let mut scene = match &args.scene {
-        Some(path) => lumis::scene::load(path)?,
+        Some(path) => lumis::scene::load_with(
+            path,
+            &lumis::scene::GltfOptions {
+                scene: args.gltf_scene,
+                camera: args.camera,
+            },
+        )?,
+        None if args.gltf_scene.is_some() || args.camera.is_some() => {
+            bail!("--gltf-scene and --camera need a glTF scene file")
+        }
         None => lumis::scene::default_scene().context("loading the built-in default scene")?,
     };
     if !args.quiet {

@@ -64,8 +64,17 @@ pub enum SceneError {
         /// What tobj or the mesh validation reported.
         message: String,
     },
+    /// The glTF file as a whole is unreadable (bad GLB container, invalid JSON, a schema
+    /// violation); errors in one element use [`SceneError::Invalid`] with that element.
+    #[error("{}: invalid glTF: {message}", path.display())]
+    Gltf {
+        /// The .gltf or .glb file.
+        path: PathBuf,
+        /// What is wrong, with the JSON path where the parser gives one.
+        message: String,
+    },
     /// The file extension names no format this crate reads.
-    #[error("{}: unknown scene format (expected .toml, .scn or .obj)", path.display())]
+    #[error("{}: unknown scene format (expected .toml, .scn, .obj, .gltf or .glb)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,

@@ -7,6 +7,7 @@
 mod auto;
 mod builtin;
 mod error;
+mod gltf;
 mod mesh_m;
 mod obj;
 mod scn;
@@ -16,6 +17,7 @@ mod toml_schema;
 pub use auto::{default_rig, framing_camera};
 pub use builtin::default_scene;
 pub use error::SceneError;
+pub use gltf::{GltfOptions, load_gltf_bytes, load_gltf_file};
 pub use mesh_m::{MeshMError, load_m_file, parse_m};
 pub use obj::{load_obj_merged, load_obj_meshes};
 pub use scn::{ScnError, load_scn_file, parse_scn};
@@ -31,14 +33,27 @@ use crate::material::Material;
 use crate::math::{Ray, Vec3};
 
 /// Loads a scene file, choosing the format by extension: `.toml` is a scene description,
-/// `.obj` a bare mesh shown with an automatic camera, a default two-light rig and a grey material.
+/// `.obj` a bare mesh shown with an automatic camera, a default two-light rig and a grey material,
+/// `.gltf`/`.glb` a glTF 2.0 scene (its default scene and first camera).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_with(path, &GltfOptions::default())
+}
+
+/// [`load`] with the choices only glTF files offer (scene and camera); asking for a scene or a
+/// camera of any other format is an error.
+pub fn load_with(path: &Path, gltf_options: &GltfOptions) -> Result<Scene, SceneError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("toml") => load_toml_file(path),
+        Some("gltf" | "glb") => load_gltf_file(path, gltf_options),
+        _ if *gltf_options != GltfOptions::default() => Err(SceneError::invalid(
+            path,
+            "options",
+            "a scene or camera index can only be chosen in glTF files",
+        )),
         Some("scn") => Ok(load_scn_file(path)?),
         Some("obj") => {
             let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
