@@ -21,7 +21,7 @@ fn fit(t: Texture, sphere_diameter: f32) -> Texture {
     let t = t.from_scn_scale();
     let s = t.scale().unwrap_or(1.0) * EXTENT / sphere_diameter;
     match t {
-        Texture::Solid(c) => Texture::Solid(c),
+        Texture::Solid(_) | Texture::Image { .. } => t,
         Texture::Checkerboard { a, b, .. } => Texture::Checkerboard { a, b, scale: s },
         Texture::Turbulence { a, b, .. } => Texture::Turbulence { a, b, scale: s },
         Texture::Marble { a, b, .. } => Texture::Marble { a, b, scale: s },

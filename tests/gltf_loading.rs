@@ -11,6 +11,7 @@ use lumis::material::Texture;
 use lumis::math::{Aabb, Vec3};
 use lumis::render::{RenderOptions, render};
 use lumis::scene::{self, GltfOptions, Scene};
+use lumis::texture::srgb_to_linear;
 
 fn asset(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -169,18 +170,22 @@ fn missing_normals_mean_flat_shading() {
 }
 
 #[test]
-fn textured_quad_loads_uvs_and_reports_the_unapplied_texture() {
+fn textured_quad_loads_uvs_and_applies_its_base_colour_texture() {
     let s = load("textured_quad.gltf");
     let m = &s.geometry().meshes()[0];
     assert_eq!(m.uvs().map(<[_]>::len), Some(4));
     assert_eq!(m.uvs().unwrap()[1], lumis::math::Vec2::new(1.0, 1.0));
-    assert!(
-        s.warnings().iter().any(|w| w.contains("checker.png")
-            && w.contains("base colour texture")
-            && w.contains("not applied yet")),
-        "{:?}",
-        s.warnings()
-    );
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+    // checker.png is 2x2: sRGB 230 on the diagonal from the top-left, 20 elsewhere.
+    let diffuse = &s.material_of(0).diffuse;
+    let Texture::Image { image, tint } = diffuse else {
+        panic!("expected an image texture, got {diffuse:?}")
+    };
+    assert_eq!((image.width(), image.height(), *tint), (2, 2, Vec3::ONE));
+    let (light, dark) = (srgb_to_linear(230.0 / 255.0), srgb_to_linear(20.0 / 255.0));
+    let at = |u: f32, v: f32| diffuse.eval(Vec3::ZERO, lumis::math::Vec2::new(u, v)).x;
+    assert!((at(0.25, 0.25) - light).abs() < 1e-6 && (at(0.75, 0.75) - light).abs() < 1e-6);
+    assert!((at(0.75, 0.25) - dark).abs() < 1e-6 && (at(0.25, 0.75) - dark).abs() < 1e-6);
 }
 
 #[test]

@@ -43,6 +43,7 @@ fn every_keyword_and_material_kind_loads() {
             Texture::Marble { .. } => "marble",
             Texture::Wood { .. } => "wood",
             Texture::CrissCross { .. } => "crisscross",
+            Texture::Image { .. } => "image",
         })
         .collect();
     for k in [

@@ -4,10 +4,12 @@
 //! primitives by their index in that list and see only their bounding boxes.
 
 mod mesh;
+mod polygon;
 mod sphere;
 mod triangle;
 
 pub use mesh::{Mesh, MeshError};
+pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
 pub use sphere::Sphere;
 pub use triangle::{TriangleHit, WatertightRay, face_normal, intersect_triangle};
 

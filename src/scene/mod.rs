@@ -9,7 +9,9 @@ mod builtin;
 mod error;
 mod gltf;
 mod mesh_m;
+mod mtl;
 mod obj;
+mod obj_scan;
 mod scn;
 mod toml;
 mod toml_schema;
@@ -19,7 +21,7 @@ pub use builtin::default_scene;
 pub use error::SceneError;
 pub use gltf::{GltfOptions, load_gltf_bytes, load_gltf_file};
 pub use mesh_m::{MeshMError, load_m_file, parse_m};
-pub use obj::{load_obj_merged, load_obj_meshes};
+pub use obj::{ObjModel, ObjObject, load_obj, load_obj_merged, load_obj_meshes};
 pub use scn::{ScnError, load_scn_file, parse_scn};
 pub use toml::{Resolver, load_toml_file, load_toml_str};
 
@@ -33,7 +35,8 @@ use crate::material::Material;
 use crate::math::{Ray, Vec3};
 
 /// Loads a scene file, choosing the format by extension: `.toml` is a scene description,
-/// `.obj` a bare mesh shown with an automatic camera, a default two-light rig and a grey material,
+/// `.scn` the paper's format, `.obj` a bare model shown with an automatic camera, a default
+/// two-light rig and its MTL materials (a grey default for objects without one),
 /// `.gltf`/`.glb` a glTF 2.0 scene (its default scene and first camera).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     load_with(path, &GltfOptions::default())
@@ -55,27 +58,40 @@ pub fn load_with(path: &Path, gltf_options: &GltfOptions) -> Result<Scene, Scene
             "a scene or camera index can only be chosen in glTF files",
         )),
         Some("scn") => Ok(load_scn_file(path)?),
-        Some("obj") => {
-            let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
-                path: path.to_path_buf(),
-                source,
-            })?;
-            let mut b = SceneBuilder::new();
-            let material = b.add_material(Material::default());
-            for (name, mesh) in load_obj_meshes(&mut bytes.as_slice(), path)? {
-                b.add_mesh(name, mesh, material);
-            }
-            let bounds = b.bounds();
-            for light in default_rig(bounds) {
-                b.add_light(light);
-            }
-            let (w, h) = (b.settings_mut().width, b.settings_mut().height);
-            Ok(b.build(framing_camera(bounds, w, h)))
-        }
+        Some("obj") => load_bare_obj(path),
         _ => Err(SceneError::UnknownFormat {
             path: path.to_path_buf(),
         }),
     }
+}
+
+/// A bare OBJ file as a scene: one scene object per OBJ object, materials from its MTL files.
+fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let model = load_obj(&bytes, path, Some(&|p| std::fs::read(p)))?;
+    let mut b = SceneBuilder::new();
+    for w in model.warnings {
+        b.warn(w);
+    }
+    let ids: Vec<u32> = model
+        .materials
+        .into_iter()
+        .map(|m| b.add_material(m))
+        .collect();
+    let default = b.add_material(Material::default());
+    for o in model.objects {
+        let material = o.material.map_or(default, |k| ids[k]);
+        b.add_mesh(o.name, o.mesh, material);
+    }
+    let bounds = b.bounds();
+    for light in default_rig(bounds) {
+        b.add_light(light);
+    }
+    let (w, h) = (b.settings_mut().width, b.settings_mut().height);
+    Ok(b.build(framing_camera(bounds, w, h)))
 }
 
 /// Render settings a scene file may give; CLI flags override them.

@@ -1,21 +1,22 @@
 //! The TOML scene format (documented in `docs/scene-format.md`): parsing into the schema of
 //! [`super::toml_schema`], then checking every value and reference while building the [`Scene`].
 
-use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+mod mesh;
 
-use super::toml_schema::{
-    CameraDoc, LightDoc, LightKind, MaterialDoc, MeshDoc, RenderDoc, Scale, SceneDoc,
-};
-use super::{SceneBuilder, SceneError, auto, obj};
+use std::collections::HashMap;
+use std::path::Path;
+
+use super::toml_schema::{CameraDoc, LightDoc, LightKind, MaterialDoc, RenderDoc, SceneDoc};
+use super::{SceneBuilder, SceneError, auto};
 use crate::camera::Camera;
-use crate::geometry::{Mesh, Sphere};
+use crate::geometry::Sphere;
 use crate::light::Light;
 use crate::material::{Material, Texture};
-use crate::math::{Mat4, Vec3};
+use crate::math::Vec3;
 use crate::scene::Scene;
 
-/// Reads file callback: the bytes of a file a scene references (an OBJ mesh).
+/// Reads file callback: the bytes of a file a scene references (an OBJ mesh, an MTL file, a
+/// texture).
 pub type Resolver<'a> = &'a dyn Fn(&Path) -> std::io::Result<Vec<u8>>;
 
 /// Loads the TOML scene at `path`; referenced files are read from disk relative to its folder.
@@ -90,10 +91,8 @@ impl Loader<'_> {
                 Some(n) => format!("mesh[{i}] \"{n}\""),
                 None => format!("mesh[{i}]"),
             };
-            let mesh = self.mesh(&element, m)?;
-            let material = self.material_ref(&element, m.material.as_deref())?;
             let name = m.name.clone().unwrap_or_else(|| format!("mesh{i}"));
-            self.builder.add_mesh(name, mesh, material);
+            self.add_mesh(&element, name, m)?;
         }
         let camera = match &doc.camera {
             Some(c) => self.camera(c)?,
@@ -272,101 +271,4 @@ impl Loader<'_> {
         )
         .map_err(|err| self.err(e, err.to_string()))
     }
-
-    fn mesh(&self, e: &str, m: &MeshDoc) -> Result<Mesh, SceneError> {
-        let mesh = match (&m.file, &m.positions) {
-            (Some(file), None) => {
-                if m.indices.is_some() || m.normals.is_some() {
-                    return Err(self.err(e, "indices/normals go with inline positions, not file"));
-                }
-                self.obj_file(e, file)?
-            }
-            (None, Some(positions)) => {
-                let indices = m
-                    .indices
-                    .clone()
-                    .ok_or_else(|| self.err(e, "inline positions need indices"))?;
-                let v3 = |v: &Vec<[f32; 3]>| v.iter().map(|p| Vec3::from(*p)).collect();
-                for p in positions.iter().chain(m.normals.iter().flatten()) {
-                    self.finite(e, "vertex", p)?;
-                }
-                Mesh::new(v3(positions), m.normals.as_ref().map(v3), None, indices)
-                    .map_err(|err| self.err(e, err.to_string()))?
-            }
-            _ => return Err(self.err(e, "give either file or positions + indices")),
-        };
-        let mesh = match m.smooth {
-            Some(true) if mesh.normals().is_none() => with_normals(mesh, true),
-            Some(false) => with_normals(mesh, false),
-            _ => Ok(mesh),
-        }
-        .map_err(|err| self.err(e, err.to_string()))?;
-        Ok(mesh.transformed(&self.transform(e, m)?))
-    }
-
-    /// Object to world: scale, then rotate about X, Y, Z (degrees), then translate.
-    fn transform(&self, e: &str, m: &MeshDoc) -> Result<Mat4, SceneError> {
-        let t = m.translate.unwrap_or([0.0; 3]);
-        let r = m.rotate.unwrap_or([0.0; 3]);
-        let s = match m.scale {
-            None => [1.0; 3],
-            Some(Scale::Uniform(s)) => [s; 3],
-            Some(Scale::PerAxis(s)) => s,
-        };
-        self.finite(e, "translate", &t)?;
-        self.finite(e, "rotate", &r)?;
-        self.finite(e, "scale", &s)?;
-        if s.contains(&0.0) {
-            return Err(self.err(e, format!("scale {s:?} must be non-zero")));
-        }
-        let [rx, ry, rz] = r.map(f32::to_radians);
-        Ok(Mat4::from_translation(Vec3::from(t))
-            * Mat4::from_rotation_z(rz)
-            * Mat4::from_rotation_y(ry)
-            * Mat4::from_rotation_x(rx)
-            * Mat4::from_scale(Vec3::from(s)))
-    }
-
-    fn obj_file(&self, e: &str, file: &str) -> Result<Mesh, SceneError> {
-        let path = resolve(self.origin, file);
-        let asset = |source| SceneError::Asset {
-            path: self.origin.to_path_buf(),
-            element: e.to_string(),
-            file: path.clone(),
-            source: Box::new(source),
-        };
-        let bytes = (self.resolver)(&path).map_err(|source| {
-            asset(SceneError::Read {
-                path: path.clone(),
-                source,
-            })
-        })?;
-        obj::load_obj_merged(&mut bytes.as_slice(), &path).map_err(asset)
-    }
-}
-
-/// `file` relative to the folder of `origin` (absolute paths stay as they are).
-fn resolve(origin: &Path, file: &str) -> PathBuf {
-    origin
-        .parent()
-        .unwrap_or(Path::new(""))
-        .join(Path::new(file))
-}
-
-/// The mesh with area-weighted vertex normals (`smooth`) or with none (flat shading).
-fn with_normals(m: Mesh, smooth: bool) -> Result<Mesh, crate::geometry::MeshError> {
-    let normals = smooth.then(|| {
-        let mut n = vec![Vec3::ZERO; m.positions().len()];
-        for tri in 0..m.triangle_count() as u32 {
-            let [a, b, c] = m.corners(tri);
-            // The cross product's length is twice the area: large faces weigh more.
-            let face = (b - a).cross(c - a);
-            for i in m.indices()[tri as usize] {
-                n[i as usize] += face;
-            }
-        }
-        n.into_iter().map(Vec3::normalize_or_zero).collect()
-    });
-    let uvs = m.uvs().map(<[_]>::to_vec);
-    Mesh::new(m.positions().to_vec(), normals, uvs, m.indices().to_vec())
 }

@@ -1,7 +1,9 @@
-//! Procedural surface colours and normal perturbation for the paper's `.scn` materials.
+//! Surface colours: procedural patterns and normal perturbation for the paper's `.scn`
+//! materials, and image textures (see [`ImageTexture`]) for OBJ/MTL `map_Kd`.
 //!
-//! Every pattern is a function of the world-space hit point `p` (solid texturing, like the
-//! original ray tracer), so spheres and triangles need no texture coordinates. `scale` is
+//! Every procedural pattern is a function of the world-space hit point `p` (solid texturing, like
+//! the original ray tracer), so spheres and triangles need no texture coordinates; only
+//! [`Texture::Image`] reads the surface's `uv`. `scale` is
 //! always a length in world units: the pattern at `p` with scale `s` equals the pattern at
 //! `p / s` with scale 1. The `.scn` files give some kinds a frequency instead;
 //! [`Texture::from_scn_scale`] converts.
@@ -12,15 +14,20 @@
 //! becomes `Texture::Marble { a: (0.4, 0.3, 0.2), b: (0.6, 0.7, 0.8), scale: 0.5 }
 //! .from_scn_scale()` and `NormalMap { scale: 0.5, amount: 0.25 }`.
 
+mod image;
 mod normal_map;
 pub mod perlin;
 
+pub use image::{ImageTexture, ImageTextureError, srgb_to_linear};
 pub use normal_map::NormalMap;
+
+use std::sync::Arc;
 
 use crate::math::{Vec2, Vec3};
 use perlin::{noise, turbulence};
 
-/// A surface colour (linear RGB) that may vary with the world-space hit point.
+/// A surface colour (linear RGB) that may vary with the world-space hit point or the texture
+/// coordinates.
 ///
 /// For every kind but `Solid`, `scale` must be finite and positive (see [`Texture::validate`]);
 /// `a` is the colour where the pattern value is 1 and `b` where it is 0, matching the `.scn`
@@ -79,6 +86,14 @@ pub enum Texture {
         /// Noise cell size along each pattern's long-frequency axis (world units).
         scale: f32,
     },
+    /// An image looked up at the surface's texture coordinates (bilinear, repeating), times
+    /// `tint`. Shared, since many materials may use one image.
+    Image {
+        /// The texels.
+        image: Arc<ImageTexture>,
+        /// Multiplies every texel (MTL's `Kd` with `map_Kd`).
+        tint: Vec3,
+    },
 }
 
 /// `b + t (a - b)`: `a` at `t = 1`, as the original ray tracer weights its first colour.
@@ -109,11 +124,12 @@ const CRISS_BANDS: [Vec3; 3] = [
 ];
 
 impl Texture {
-    /// Colour (linear RGB) at world point `p`; `uv` is accepted for image textures to come and
-    /// ignored by every current kind. Every result lies in the convex hull of the kind's colours.
-    pub fn eval(&self, p: Vec3, _uv: Vec2) -> Vec3 {
+    /// Colour (linear RGB) at world point `p` and texture coordinates `uv`; only `Image` reads
+    /// `uv`. Every procedural result lies in the convex hull of the kind's colours.
+    pub fn eval(&self, p: Vec3, uv: Vec2) -> Vec3 {
         match *self {
             Texture::Solid(c) => c,
+            Texture::Image { ref image, tint } => tint * image.sample(uv),
             Texture::Checkerboard { a, b, scale } => {
                 // Parity per axis by bit tests: summing saturated integers could overflow.
                 let cell = (p / scale).floor();
@@ -143,7 +159,8 @@ impl Texture {
         }
     }
 
-    /// True when the texture is black everywhere (all of its colours are zero).
+    /// True when the texture is black everywhere (all of its colours are zero; for an image,
+    /// when its tint is).
     pub fn is_black(&self) -> bool {
         self.colours().iter().all(|c| *c == Vec3::ZERO)
     }
@@ -152,7 +169,7 @@ impl Texture {
     /// convex hull and "all black" are unchanged, and shading allocates nothing).
     fn colours(&self) -> [Vec3; 3] {
         match *self {
-            Texture::Solid(c) => [c; 3],
+            Texture::Solid(c) | Texture::Image { tint: c, .. } => [c; 3],
             Texture::Checkerboard { a, b, .. }
             | Texture::Turbulence { a, b, .. }
             | Texture::Marble { a, b, .. }
@@ -161,10 +178,10 @@ impl Texture {
         }
     }
 
-    /// The pattern's world-space scale, `None` for `Solid`.
+    /// The pattern's world-space scale, `None` for `Solid` and `Image`.
     pub fn scale(&self) -> Option<f32> {
         match *self {
-            Texture::Solid(_) => None,
+            Texture::Solid(_) | Texture::Image { .. } => None,
             Texture::Checkerboard { scale, .. }
             | Texture::Turbulence { scale, .. }
             | Texture::Marble { scale, .. }
@@ -194,7 +211,7 @@ impl Texture {
     /// an infinite or negative scale, which [`Texture::validate`] rejects.
     pub fn from_scn_scale(self) -> Texture {
         match self {
-            Texture::Solid(_) | Texture::Checkerboard { .. } => self,
+            Texture::Solid(_) | Texture::Checkerboard { .. } | Texture::Image { .. } => self,
             // Noise at 0.05 * s * p.
             Texture::Turbulence { a, b, scale } => Texture::Turbulence {
                 a,

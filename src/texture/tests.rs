@@ -290,3 +290,19 @@ fn scn_scale_conversion_reproduces_the_original_formulas() {
     let checker = Texture::Checkerboard { a, b, scale: 50.0 };
     assert_eq!(checker.clone().from_scn_scale(), checker);
 }
+
+#[test]
+fn image_texture_reads_uv_times_tint_and_ignores_p() {
+    let img = ImageTexture::new(2, 1, vec![Vec3::X, Vec3::Y]).unwrap();
+    let t = Texture::Image {
+        image: std::sync::Arc::new(img),
+        tint: Vec3::splat(0.5),
+    };
+    assert_eq!(
+        t.eval(Vec3::splat(7.0), Vec2::new(0.25, 0.5)),
+        Vec3::X * 0.5
+    );
+    assert_eq!(t.eval(Vec3::ZERO, Vec2::new(0.75, 0.5)), Vec3::Y * 0.5);
+    assert!(!t.is_black() && t.validate().is_ok() && t.scale().is_none());
+    assert_eq!(t.clone().from_scn_scale(), t);
+}

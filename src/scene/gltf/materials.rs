@@ -14,9 +14,11 @@
 
 use std::path::Path;
 
-use super::buffers::resolve_uri;
+use super::Resolver;
+use super::buffers::{UriError, read_uri, resolve_uri};
 use crate::material::{Material, Texture};
 use crate::math::Vec3;
+use crate::texture::ImageTexture;
 
 /// Largest Phong exponent a perfectly smooth surface gets.
 const MAX_SHININESS: f32 = 10_000.0;
@@ -28,9 +30,9 @@ const DIELECTRIC_F0: f32 = 0.04;
 pub(super) struct Converted {
     /// The lumis material.
     pub material: Material,
-    /// Where the base colour texture's image lives (a resolved file path, a data URI or a buffer
-    /// view): lumis does not yet multiply it into `diffuse`.
-    pub base_color_texture: Option<String>,
+    /// Index of the base colour texture's image; the loader decodes it and multiplies it
+    /// into `diffuse` (which holds the factor meanwhile).
+    pub base_color_image: Option<usize>,
     /// The material as errors and warnings name it, e.g. `materials[2] "brass"`.
     pub element: String,
 }
@@ -85,15 +87,14 @@ pub(super) fn convert(m: &gltf::Material, origin: &Path, warnings: &mut Vec<Stri
     let strength = m.emissive_strength().filter(|s| *s >= 0.0).unwrap_or(1.0);
     let emission = Vec3::from(m.emissive_factor()).max(Vec3::ZERO) * strength;
 
-    let base_color_texture = pbr.base_color_texture().map(|info| {
-        let source = describe_image(&info.texture().source(), origin);
+    let base_color_image = pbr.base_color_texture().map(|info| {
         if info.tex_coord() != 0 {
             warn(format!(
                 "base colour texture uses TEXCOORD_{}; lumis reads TEXCOORD_0 only",
                 info.tex_coord()
             ));
         }
-        source
+        info.texture().source().index()
     });
     if !emission.is_finite() {
         warn("emission is not finite; set to 0".into());
@@ -113,7 +114,7 @@ pub(super) fn convert(m: &gltf::Material, origin: &Path, warnings: &mut Vec<Stri
             },
             normal_map: None,
         },
-        base_color_texture,
+        base_color_image,
         element,
     }
 }
@@ -124,17 +125,40 @@ fn unit(x: f32) -> f32 {
 }
 
 /// Where an image's bytes are: the resolved file, an embedded data URI, or a buffer view.
-fn describe_image(image: &gltf::Image, origin: &Path) -> String {
+/// Decodes `image` (an external file, a data URI or a buffer view of `buffers`) into a linear
+/// texture; the error says which image failed and why.
+pub(super) fn decode_image(
+    image: &gltf::Image,
+    buffers: &[Vec<u8>],
+    origin: &Path,
+    resolver: Resolver<'_>,
+) -> Result<ImageTexture, String> {
     let at = format!("images[{}]", image.index());
-    match image.source() {
-        gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => {
-            format!("{at} (embedded data URI)")
-        }
+    let (bytes, name) = match image.source() {
         gltf::image::Source::Uri { uri, .. } => {
-            format!("{at} ({})", resolve_uri(origin, uri).display())
+            let name = if uri.starts_with("data:") {
+                origin.to_path_buf()
+            } else {
+                resolve_uri(origin, uri)
+            };
+            let bytes = read_uri(uri, origin, resolver).map_err(|e| match e {
+                UriError::Data(m) => format!("{at}: {m}"),
+                UriError::File(f, e) => format!("{at}: cannot read {}: {e}", f.display()),
+            })?;
+            (bytes, name)
         }
-        gltf::image::Source::View { view, mime_type } => {
-            format!("{at} (bufferViews[{}], {mime_type})", view.index())
+        gltf::image::Source::View { view, .. } => {
+            let buffer = buffers
+                .get(view.buffer().index())
+                .ok_or(format!("{at}: its buffer is missing"))?;
+            let bytes = buffer
+                .get(view.offset()..view.offset().saturating_add(view.length()))
+                .ok_or(format!(
+                    "{at}: bufferViews[{}] lies outside its buffer",
+                    view.index()
+                ))?;
+            (bytes.to_vec(), origin.to_path_buf())
         }
-    }
+    };
+    ImageTexture::decode(&bytes, &name).map_err(|e| format!("{at}: {e}"))
 }

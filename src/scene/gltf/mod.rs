@@ -19,10 +19,12 @@ mod primitives;
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::path::Path;
+use std::sync::Arc;
 
 use super::{Resolver, Scene, SceneBuilder, SceneError, auto};
 use crate::geometry::Mesh;
-use crate::material::Material;
+use crate::material::{Material, Texture};
+use crate::texture::ImageTexture;
 
 /// Choices a glTF file leaves to the caller.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -80,15 +82,36 @@ fn load_inner(
     let mut b = SceneBuilder::new();
     // One lumis material per glTF material, converted in file order.
     let mut material_ids = Vec::new();
+    // Decoded once however many materials share an image.
+    let mut images: HashMap<usize, Result<Arc<ImageTexture>, String>> = HashMap::new();
     for m in doc.materials() {
-        let c = materials::convert(&m, origin, &mut warnings);
-        if let Some(source) = &c.base_color_texture {
-            // TEXCOORD_0 is loaded into the meshes; the image itself waits for texture support.
-            warnings.push(format!(
-                "{}: {}: base colour texture {source} not applied yet",
-                origin.display(),
-                c.element
-            ));
+        let mut c = materials::convert(&m, origin, &mut warnings);
+        if let (Some(index), Texture::Solid(factor)) = (c.base_color_image, &c.material.diffuse) {
+            // A texture that cannot be read leaves the plain factor, with a warning (as for OBJ).
+            match doc
+                .images()
+                .nth(index)
+                .ok_or(format!("images[{index}] does not exist"))
+                .and_then(|image| {
+                    images
+                        .entry(index)
+                        .or_insert_with(|| {
+                            materials::decode_image(&image, &data, origin, resolver).map(Arc::new)
+                        })
+                        .clone()
+                }) {
+                Ok(image) => {
+                    c.material.diffuse = Texture::Image {
+                        image,
+                        tint: *factor,
+                    }
+                }
+                Err(e) => warnings.push(format!(
+                    "{}: {}: base colour texture not applied: {e}",
+                    origin.display(),
+                    c.element
+                )),
+            }
         }
         material_ids.push(b.add_material(c.material));
     }
