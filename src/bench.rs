@@ -37,7 +37,8 @@ pub struct Config {
     pub traversal: Traversal,
 }
 
-/// The configurations in Table I's order, baseline first, then SAH for reference.
+/// The configurations in Table I's order, baseline first, then SAH for reference, then the
+/// paper's own exhaustive traversal over both of its trees (what its percentages compare against).
 pub fn paper_configs() -> Vec<Config> {
     let seg = |init| {
         Traversal::Segments(SegmentParams {

@@ -23,6 +23,9 @@ pub struct PaperArgs {
     /// Only scenes whose file name contains this.
     #[arg(long)]
     only: Option<String>,
+    /// Only these configurations (comma-separated labels, e.g. "bsp (baseline),bsp exhaustive").
+    #[arg(long, value_delimiter = ',')]
+    configs: Vec<String>,
 }
 
 /// Renders every Table I scene under every configuration and prints the tables.
@@ -48,7 +51,20 @@ pub fn run_paper(args: &PaperArgs) -> Result<()> {
         ((1920.0 * args.scale).round() as u32).max(1),
         ((1080.0 * args.scale).round() as u32).max(1),
     );
-    let configs = paper_configs();
+    let configs: Vec<_> = paper_configs()
+        .into_iter()
+        .filter(|c| args.configs.is_empty() || args.configs.iter().any(|l| l == c.label))
+        .collect();
+    if configs.is_empty() {
+        bail!(
+            "--configs matches none of: {}",
+            paper_configs()
+                .iter()
+                .map(|c| c.label)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     let mut rows = Vec::new();
     for file in &files {
         let mut scene = lumis::scene::load(file)?;

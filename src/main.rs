@@ -84,7 +84,8 @@ struct RenderArgs {
     /// Acceleration structure.
     #[arg(long, value_enum, default_value_t = AccelKind::Sah)]
     accel: AccelKind,
-    /// How the hierarchy is walked: front-to-back, or the paper's scale-lights segments.
+    /// How the hierarchy is walked: front-to-back, the paper's scale-lights segments, or the
+    /// paper's exhaustive recursion.
     #[arg(long, value_enum, default_value_t = TraversalKind::Ordered)]
     traversal: TraversalKind,
     /// First segment length of the segments traversal (world units).
@@ -244,12 +245,15 @@ fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
 enum TraversalKind {
     Ordered,
     Segments,
+    /// The paper's own walk: every crossed node, no order, no culling (for comparisons).
+    Exhaustive,
 }
 
 impl TraversalKind {
     fn with_params(self, init: f32, max: f32) -> Result<Traversal> {
         match self {
             TraversalKind::Ordered => Ok(Traversal::Ordered),
+            TraversalKind::Exhaustive => Ok(Traversal::Exhaustive),
             TraversalKind::Segments if init > 0.0 && init.is_finite() && max.is_finite() => {
                 Ok(Traversal::Segments(SegmentParams { init, max }))
             }

@@ -16,10 +16,11 @@ use lumis::math::Ray;
 /// culling), the default, and large leaves (many primitives tested per leaf).
 const LEAF_SIZES: [usize; 3] = [1, 4, 20];
 
-/// The traversals every hierarchy is walked with: ordered, many short segments (the scenes
+/// The traversals every hierarchy is walked with: ordered, the paper's exhaustive walk, many short segments (the scenes
 /// span ~10-100 units), and the paper's long first segment.
-const TRAVERSALS: [Traversal; 3] = [
+const TRAVERSALS: [Traversal; 4] = [
     Traversal::Ordered,
+    Traversal::Exhaustive,
     Traversal::Segments(SegmentParams {
         init: 0.05,
         max: 100.0,

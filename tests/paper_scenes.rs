@@ -71,6 +71,7 @@ fn all_paper_scenes_render_identically_under_every_accelerator_and_traversal() {
     }
     let traversals = [
         Traversal::Ordered,
+        Traversal::Exhaustive,
         Traversal::Segments(SegmentParams {
             init: 2.0,
             max: 40_000.0,

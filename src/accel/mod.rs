@@ -11,6 +11,7 @@ mod brute;
 mod bsp;
 mod build;
 mod bvh;
+mod exhaustive;
 pub(crate) mod sah;
 mod segments;
 
@@ -61,6 +62,9 @@ pub enum Traversal {
     Ordered,
     /// The paper's scale lights: segment marching (see [`SegmentParams`]).
     Segments(SegmentParams),
+    /// The paper's own recursion: every crossed node, no order, no culling by the best hit
+    /// (any-hit queries still stop at the first blocker).
+    Exhaustive,
 }
 
 /// Build parameters shared by the hierarchies.
@@ -204,6 +208,7 @@ impl Accel {
             (Structure::Bvh(b), Traversal::Segments(p)) => {
                 b.intersect_segments(ray, p, stats, test)
             }
+            (Structure::Bvh(b), Traversal::Exhaustive) => b.intersect_exhaustive(ray, stats, test),
         }
     }
 
@@ -215,7 +220,9 @@ impl Accel {
     {
         match (&self.structure, &self.traversal) {
             (Structure::Brute(b), _) => b.occluded(ray, stats, test),
-            (Structure::Bvh(b), Traversal::Ordered) => b.occluded(ray, stats, test),
+            (Structure::Bvh(b), Traversal::Ordered | Traversal::Exhaustive) => {
+                b.occluded(ray, stats, test)
+            }
             (Structure::Bvh(b), Traversal::Segments(p)) => b.occluded_segments(ray, p, stats, test),
         }
     }

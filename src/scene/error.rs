@@ -56,6 +56,9 @@ pub enum SceneError {
     /// A `.scn` scene failed to load (its message names the file and line).
     #[error(transparent)]
     Scn(#[from] super::scn::ScnError),
+    /// A `.m` mesh failed to load (its message names the file and line).
+    #[error(transparent)]
+    MeshM(#[from] super::mesh_m::MeshMError),
     /// The OBJ file is malformed.
     #[error("{}: invalid OBJ: {message}", path.display())]
     Obj {

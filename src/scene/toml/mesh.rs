@@ -1,16 +1,22 @@
-//! `[[mesh]]` elements: inline meshes and OBJ files, their transform and shading normals.
+//! `[[mesh]]` elements: inline meshes and model files (OBJ, glTF/GLB, `.m`), their transform
+//! and shading normals.
 //!
 //! An OBJ `file` with a `material` key becomes one scene object (all OBJ objects merged) with
 //! that material; without `material`, every OBJ object becomes its own scene object named
 //! `NAME/OBJECT` (just `NAME` when the file has one object) with its MTL material, and the
-//! default grey material where the OBJ names none.
+//! default grey material where the OBJ names none. A glTF file works the same way with its
+//! node-placed meshes (`NAME/OBJECT`, each under its node transform, then the element's) and
+//! its materials; its cameras and lights are not used. A `.m` file is one object with the
+//! element's material.
 
 use std::path::{Path, PathBuf};
 
+use super::super::gltf::{GltfOptions, load_gltf_bytes};
+use super::super::mesh_m::parse_m;
 use super::super::obj::{self, ObjModel};
 use super::super::toml_schema::{MeshDoc, Scale};
 use super::{Loader, SceneError};
-use crate::geometry::Mesh;
+use crate::geometry::{Mesh, Primitive};
 use crate::math::{Mat4, Vec3};
 
 impl Loader<'_> {
@@ -34,6 +40,27 @@ impl Loader<'_> {
         }
         if m.indices.is_some() || m.normals.is_some() {
             return Err(self.err(e, "indices/normals go with inline positions, not file"));
+        }
+        match extension(file).as_deref() {
+            Some("gltf" | "glb") => return self.add_gltf(e, name, m, file, &xf),
+            Some("m") => {
+                let path = resolve(self.origin, file);
+                let bytes = self.read_asset(e, &path)?;
+                let text = String::from_utf8_lossy(&bytes);
+                let mesh =
+                    parse_m(&text, &path).map_err(|err| self.asset_error(e, &path, err.into()))?;
+                let material = self.material_ref(e, m.material.as_deref())?;
+                self.builder
+                    .add_mesh(name, self.finish(e, m, mesh, &xf)?, material);
+                return Ok(());
+            }
+            Some("obj") => {}
+            _ => {
+                return Err(self.err(
+                    e,
+                    format!("file {file:?}: expected a .obj, .gltf, .glb or .m model"),
+                ));
+            }
         }
         // An explicit material overrides the MTL ones, which are then not even read.
         let with_mtl = m.material.is_none();
@@ -127,20 +154,100 @@ impl Loader<'_> {
     /// `with_mtl`; every file goes through the resolver.
     fn obj_file(&self, e: &str, file: &str, with_mtl: bool) -> Result<ObjModel, SceneError> {
         let path = resolve(self.origin, file);
-        let asset = |source| SceneError::Asset {
+        let bytes = self.read_asset(e, &path)?;
+        obj::load_obj(&bytes, &path, with_mtl.then_some(self.resolver))
+            .map_err(|err| self.asset_error(e, &path, err))
+    }
+
+    /// The meshes and materials of glTF `file`, each mesh under its node transform and then `xf`.
+    fn add_gltf(
+        &mut self,
+        e: &str,
+        name: String,
+        m: &MeshDoc,
+        file: &str,
+        xf: &Mat4,
+    ) -> Result<(), SceneError> {
+        let path = resolve(self.origin, file);
+        let bytes = self.read_asset(e, &path)?;
+        let model = load_gltf_bytes(&bytes, &path, self.resolver, &GltfOptions::default())
+            .map_err(|err| self.asset_error(e, &path, err))?;
+        for w in model.warnings() {
+            self.builder.warn(w.clone());
+        }
+        let override_material = m
+            .material
+            .as_deref()
+            .map(|r| self.material_ref(e, Some(r)))
+            .transpose()?;
+        let mut materials = std::collections::HashMap::new();
+        let single = model.objects().len() == 1;
+        for (object, o) in model.objects().iter().enumerate() {
+            // A glTF scene holds only meshes, one per object: find this object's.
+            let mesh =
+                model
+                    .geometry()
+                    .prims()
+                    .iter()
+                    .enumerate()
+                    .find_map(|(p, prim)| match prim {
+                        Primitive::Triangle { mesh, .. }
+                            if model.object_of(p as u32) == object as u32 =>
+                        {
+                            Some(*mesh)
+                        }
+                        _ => None,
+                    });
+            let Some(mesh) = mesh else { continue };
+            let material = match override_material {
+                Some(id) => id,
+                None => *materials.entry(o.material).or_insert_with(|| {
+                    self.builder
+                        .add_material(model.materials()[o.material as usize].clone())
+                }),
+            };
+            let label = if single {
+                name.clone()
+            } else {
+                format!("{name}/{}", o.name)
+            };
+            let mesh = self.finish(e, m, model.geometry().meshes()[mesh as usize].clone(), xf)?;
+            self.builder.add_mesh(label, mesh, material);
+        }
+        Ok(())
+    }
+
+    /// The bytes of a model file, through the resolver; errors name the element and the file.
+    fn read_asset(&self, e: &str, path: &Path) -> Result<Vec<u8>, SceneError> {
+        (self.resolver)(path).map_err(|source| {
+            self.asset_error(
+                e,
+                path,
+                SceneError::Read {
+                    path: path.to_path_buf(),
+                    source,
+                },
+            )
+        })
+    }
+
+    /// `source` as the failure of element `e` to load `path`.
+    fn asset_error(&self, e: &str, path: &Path, source: SceneError) -> SceneError {
+        SceneError::Asset {
             path: self.origin.to_path_buf(),
             element: e.to_string(),
-            file: path.clone(),
+            file: path.to_path_buf(),
             source: Box::new(source),
-        };
-        let bytes = (self.resolver)(&path).map_err(|source| {
-            asset(SceneError::Read {
-                path: path.clone(),
-                source,
-            })
-        })?;
-        obj::load_obj(&bytes, &path, with_mtl.then_some(self.resolver)).map_err(asset)
+        }
     }
+}
+
+/// The lower-case extension of a file name.
+fn extension(file: &str) -> Option<String> {
+    Path::new(file)
+        .extension()
+        .and_then(|x| x.to_str())
+        .map(str::to_ascii_lowercase)
 }
 
 /// `file` relative to the folder of `origin` (absolute paths stay as they are).
