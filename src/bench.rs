@@ -82,6 +82,34 @@ pub fn paper_configs() -> Vec<Config> {
             accel: AccelKind::Sah,
             traversal: Traversal::Ordered,
         },
+        Config {
+            label: "bsp exhaustive",
+            accel: AccelKind::Bsp,
+            traversal: Traversal::Exhaustive,
+        },
+        Config {
+            label: "bsmp exhaustive",
+            accel: AccelKind::Bsmp,
+            traversal: Traversal::Exhaustive,
+        },
+        // The original's acceptance rule, which can return a farther hit: wrong images, timed
+        // only to show what the shortcut was worth.
+        Config {
+            label: "bsp+seg2 original rule",
+            accel: AccelKind::Bsp,
+            traversal: Traversal::SegmentsOriginalRule(SegmentParams {
+                init: 2.0,
+                max: PAPER_SEGMENT_MAX,
+            }),
+        },
+        Config {
+            label: "bsp+seg4096 original rule",
+            accel: AccelKind::Bsp,
+            traversal: Traversal::SegmentsOriginalRule(SegmentParams {
+                init: 4096.0,
+                max: PAPER_SEGMENT_MAX,
+            }),
+        },
     ]
 }
 

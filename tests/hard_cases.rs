@@ -165,15 +165,19 @@ fn far_from_origin_scene_renders_like_the_same_scene_at_the_origin() {
     );
 }
 
-#[test]
-fn ground_sphere_of_radius_1e4_shows_no_shadow_acne() {
-    // A ground sphere much larger than the scene: in f32, |o - c|^2 - r^2 for a point on its
-    // surface cancels catastrophically (ulp(1e8) = 8), which makes shadow rays re-hit it.
-    // Under one directional light the nearby ground is uniformly lit (the curvature over 15
-    // units changes cos by < 1e-3), so every pixel must be within 1% of the analytic value.
+/// A Lambert (kd 0.5) ground sphere of radius 1e4 under one directional light of irradiance 3
+/// and ambient 0.1, rendered at `w x h`; returns the film and the analytic radiance of a surface
+/// facing `up` (the sphere's top normal).
+fn render_lit_ground(
+    center: Vec3,
+    up: Vec3,
+    light: Vec3,
+    cam: Camera,
+    (w, h): (u32, u32),
+) -> (lumis::film::Film, f32) {
     let mut b = SceneBuilder::new();
     let s = b.settings_mut();
-    (s.width, s.height, s.spp, s.ambient) = (96, 64, 1, Vec3::splat(0.1));
+    (s.width, s.height, s.spp, s.ambient) = (w, h, 1, Vec3::splat(0.1));
     let ground = b.add_material(Material {
         diffuse: Texture::Solid(Vec3::splat(0.5)),
         ..Material::default()
@@ -181,26 +185,16 @@ fn ground_sphere_of_radius_1e4_shows_no_shadow_acne() {
     b.add_sphere(
         "ground",
         Sphere {
-            center: Vec3::new(0.0, -1e4, 0.0),
+            center,
             radius: 1e4,
         },
         ground,
     );
-    let dir = Vec3::new(-0.7, -1.0, -0.3).normalize();
+    let dir = light.normalize();
     b.add_light(Light::Directional {
         direction: dir,
         irradiance: Vec3::splat(3.0),
     });
-    // A lens, so camera rays start off the pinhole and hit the ground at varied rounding.
-    let cam = Camera::look_at(
-        Vec3::new(0.0, 1.6, 6.5),
-        Vec3::new(0.0, 0.0, 0.0),
-        Vec3::Y,
-        40.0,
-        0.02,
-        None,
-    )
-    .unwrap();
     let scene = b.build(cam);
     let accel = Accel::build(
         AccelKind::Sah,
@@ -210,19 +204,43 @@ fn ground_sphere_of_radius_1e4_shows_no_shadow_acne() {
     let film = render(&scene, &accel, &RenderOptions::default())
         .unwrap()
         .film;
-    let expected = 0.1 * 0.5 + 0.5 / std::f32::consts::PI * 3.0 * -dir.y;
-    let mut speckles = 0;
-    for y in 0..64 {
-        for x in 0..96 {
-            let aov = film.pixel_aov(x, y);
-            if aov.object_id == 0
+    (
+        film,
+        0.1 * 0.5 + 0.5 / std::f32::consts::PI * 3.0 * -dir.dot(up),
+    )
+}
+
+#[test]
+fn ground_sphere_of_radius_1e4_shows_no_shadow_acne() {
+    // A ground sphere much larger than the scene: in f32, |o - c|^2 - r^2 for a point on its
+    // surface cancels catastrophically (ulp(1e8) = 8), which makes shadow rays re-hit it.
+    // Under one directional light the nearby ground is uniformly lit (the curvature over 15
+    // units changes cos by < 1e-3), so every pixel must be within 1% of the analytic value.
+    // A lens, so camera rays start off the pinhole and hit the ground at varied rounding.
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.6, 6.5),
+        Vec3::ZERO,
+        Vec3::Y,
+        40.0,
+        0.02,
+        None,
+    )
+    .unwrap();
+    let (film, expected) = render_lit_ground(
+        Vec3::new(0.0, -1e4, 0.0),
+        Vec3::Y,
+        Vec3::new(-0.7, -1.0, -0.3),
+        cam,
+        (96, 64),
+    );
+    let speckles = (0..64 * 96)
+        .filter(|&i| {
+            let aov = film.aov()[i];
+            aov.object_id == 0
                 && aov.depth < 15.0
-                && (film.pixel(x, y).x - expected).abs() > 0.01 * expected
-            {
-                speckles += 1;
-            }
-        }
-    }
+                && (film.rgba()[i].x - expected).abs() > 0.01 * expected
+        })
+        .count();
     assert_eq!(
         speckles, 0,
         "{speckles} ground pixels differ from the analytic {expected}"
@@ -234,27 +252,8 @@ fn hit_points_computed_with_cancellation_do_not_shadow_themselves() {
     // Camera 25 units above a ground sphere (r = 1e4, top at z = 0), looking down: o.z + t d.z
     // cancels, so the f32 hit point is ~1e-6 off the surface while |p.z| is only ~0.04 — more
     // than an offset of a few ulps of p.z covers. (The paper's ballsOnAPlaneClose showed it as
-    // speckles.) The ground must be uniformly lit.
-    let mut b = SceneBuilder::new();
-    let s = b.settings_mut();
-    (s.width, s.height, s.spp, s.ambient) = (128, 72, 1, Vec3::splat(0.1));
-    let ground = b.add_material(Material {
-        diffuse: Texture::Solid(Vec3::splat(0.5)),
-        ..Material::default()
-    });
-    b.add_sphere(
-        "ground",
-        Sphere {
-            center: Vec3::new(0.0, 0.0, -1e4),
-            radius: 1e4,
-        },
-        ground,
-    );
-    let dir = Vec3::new(0.2, -0.5, -1.0).normalize();
-    b.add_light(Light::Directional {
-        direction: dir,
-        irradiance: Vec3::splat(3.0),
-    });
+    // speckles.) The ground must be uniformly lit: over |x|, |y| < 40 the sphere's normal tilts
+    // by < 0.004 rad, so cos changes < 0.5%.
     let cam = Camera::look_at(
         Vec3::new(0.0, 0.0, 25.0),
         Vec3::new(0.0, 0.0, 9.0),
@@ -264,17 +263,13 @@ fn hit_points_computed_with_cancellation_do_not_shadow_themselves() {
         None,
     )
     .unwrap();
-    let scene = b.build(cam);
-    let accel = Accel::build(
-        AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
-        &BuildOptions::default(),
+    let (film, expected) = render_lit_ground(
+        Vec3::new(0.0, 0.0, -1e4),
+        Vec3::Z,
+        Vec3::new(0.2, -0.5, -1.0),
+        cam,
+        (128, 72),
     );
-    let film = render(&scene, &accel, &RenderOptions::default())
-        .unwrap()
-        .film;
-    // Over |x|, |y| < 40 the sphere's normal tilts by < 0.004 rad: cos changes < 0.5%.
-    let expected = 0.1 * 0.5 + 0.5 / std::f32::consts::PI * 3.0 * -dir.z;
     let dark = film
         .rgba()
         .iter()

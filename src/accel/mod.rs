@@ -65,6 +65,9 @@ pub enum Traversal {
     /// The paper's own recursion: every crossed node, no order, no culling by the best hit
     /// (any-hit queries still stop at the first blocker).
     Exhaustive,
+    /// Segment marching with the original's defect (returns the first segment's best hit even
+    /// when a nearer one lies in a later segment): WRONG ANSWERS, for measuring only.
+    SegmentsOriginalRule(SegmentParams),
 }
 
 /// Build parameters shared by the hierarchies.
@@ -209,6 +212,9 @@ impl Accel {
                 b.intersect_segments(ray, p, stats, test)
             }
             (Structure::Bvh(b), Traversal::Exhaustive) => b.intersect_exhaustive(ray, stats, test),
+            (Structure::Bvh(b), Traversal::SegmentsOriginalRule(p)) => {
+                b.intersect_segments_original_rule(ray, p, stats, test)
+            }
         }
     }
 
@@ -223,7 +229,9 @@ impl Accel {
             (Structure::Bvh(b), Traversal::Ordered | Traversal::Exhaustive) => {
                 b.occluded(ray, stats, test)
             }
-            (Structure::Bvh(b), Traversal::Segments(p)) => b.occluded_segments(ray, p, stats, test),
+            (Structure::Bvh(b), Traversal::Segments(p) | Traversal::SegmentsOriginalRule(p)) => {
+                b.occluded_segments(ray, p, stats, test)
+            }
         }
     }
 

@@ -96,6 +96,22 @@ impl Bvh {
         blocked
     }
 
+    /// Segment marching with the ORIGINAL's acceptance rule: the best hit of the first segment
+    /// that finds any, even when a nearer hit lies in a later segment's leaf. Wrong answers by
+    /// design; it exists only so `lumis bench paper` can measure what that shortcut saved.
+    pub fn intersect_segments_original_rule<F>(
+        &self,
+        ray: &Ray,
+        p: &SegmentParams,
+        stats: &mut TraversalStats,
+        test: F,
+    ) -> Option<Hit>
+    where
+        F: FnMut(u32, &Ray) -> Option<PrimHit>,
+    {
+        self.march(ray, p, stats, test, true)
+    }
+
     /// The closest-hit traversal; `accept_any` selects the original's rule of returning the
     /// best hit of the first segment that found any (for the test that shows it wrong).
     fn march<F>(
