@@ -75,10 +75,10 @@ pub fn write_glb(path: &Path, n: u32) -> std::io::Result<()> {
         ic = indices.len() * 3,
     );
     // Chunks are 4-byte aligned: JSON padded with spaces, BIN with zeros.
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(' ');
     }
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();

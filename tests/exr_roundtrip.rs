@@ -31,7 +31,7 @@ fn camera() -> Camera {
 }
 
 fn is_hit(x: u32, y: u32) -> bool {
-    (x + y) % 3 != 0
+    !(x + y).is_multiple_of(3)
 }
 
 /// A 7x5 film with known values: hits with distinct ids, misses with the miss AOV.
