@@ -318,3 +318,15 @@ fn bad_ray_files_fail_naming_the_file_and_write_nothing() {
     write_rays(&zero_dir, &[[0., 0., 5., 0., 0., 0., 0., INF]]);
     assert_rejected(d, &scene, &zero_dir, "ray 0: direction is zero");
 }
+
+#[test]
+fn no_rays_give_an_empty_hits_array() {
+    let (dir, scene) = setup();
+    let rays_path = dir.path().join("rays.npy");
+    write_rays(&rays_path, &[]);
+    let out = dir.path().join("hits.npy");
+    assert_ok(&run_hits(&scene, &rays_path, &out, &[]));
+    let bytes = std::fs::read(&out).unwrap();
+    let npy = npyz::NpyFile::new(&bytes[..]).unwrap();
+    assert_eq!(npy.shape(), [0, 9]);
+}
