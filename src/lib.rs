@@ -10,6 +10,7 @@ pub mod bench_load;
 pub mod camera;
 pub mod film;
 pub mod geometry;
+pub mod hits;
 pub mod integrator;
 pub mod light;
 pub mod material;

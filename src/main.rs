@@ -3,6 +3,7 @@
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 mod cli_bench;
+mod cli_hits;
 mod cli_info;
 
 use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
@@ -34,6 +35,9 @@ enum Command {
         /// Scene or model file.
         file: PathBuf,
     },
+    /// Trace a batch of rays from an .npy file and write one hit record per ray (for
+    /// cross-checks against other tracers).
+    Hits(cli_hits::HitsArgs),
     /// Measure performance.
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -123,6 +127,7 @@ fn main() {
         Some(Command::Bench(BenchCommand::Load(args))) => cli_bench::run_load(args),
         Some(Command::Bench(BenchCommand::LoadOne { file })) => cli_bench::run_load_one(file),
         Some(Command::Info { file }) => cli_info::run_info(file),
+        Some(Command::Hits(args)) => cli_hits::run_hits(args),
         None => run_render(&cli.render),
     };
     if let Err(e) = result {

@@ -13,6 +13,8 @@
 //! ```
 
 mod atomic;
+
+pub(crate) use self::atomic::write_atomically;
 mod exr;
 mod png;
 

@@ -1,0 +1,264 @@
+//! Batch ray queries for cross-checking against other tracers (`lumis hits`): rays in from an
+//! `.npy` array, one hit record per ray out to another, plus the scene's triangles as lumis
+//! sees them after loading and transforms.
+//!
+//! Formats (float32, C order, world space):
+//! - rays `(N, 8)`: origin xyz, direction xyz (any non-zero length; `t` is in units of it),
+//!   `t_min`, `t_max`; hits count in `(t_min, t_max]`.
+//! - hits `(N, 9)`: `t`, primitive id, object id, barycentric `u`, `v` (weights of the
+//!   triangle's second and third vertex; 0 for spheres), unit geometric normal xyz (outward for
+//!   spheres, by winding for triangles), primitive kind (0 sphere, 1 triangle). A miss is
+//!   `t = +inf`, ids and kind `-1`, the rest 0. Any-hit queries report the `t` of whichever
+//!   blocker the traversal met first (not necessarily the nearest; `+inf` when unoccluded),
+//!   ids and kind `-1`, the rest 0.
+//! - triangles `(M, 10)`: primitive id, then the three world-space vertices.
+//!
+//! Ids are stored as float32, exact up to 2^24.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use npyz::WriterBuilder;
+use rayon::prelude::*;
+
+use crate::accel::{Accel, Hit, TraversalStats};
+use crate::geometry::{Primitive, WatertightRay};
+use crate::math::{Ray, Vec3};
+use crate::output::{OutputError, write_atomically};
+use crate::scene::Scene;
+
+/// Floats per input ray row.
+pub const RAY_COLUMNS: usize = 8;
+/// Floats per output hit row.
+pub const HIT_COLUMNS: usize = 9;
+/// Floats per triangle row.
+pub const TRIANGLE_COLUMNS: usize = 10;
+
+/// Rays per parallel work item: large enough to amortise scheduling, small enough to balance.
+const CHUNK: usize = 1024;
+
+/// Why a ray file could not be read or a result file written. Every variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum HitsError {
+    /// The file could not be read.
+    #[error("cannot read {}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The file is not an `.npy` array of the expected dtype, shape or order.
+    #[error("{}: {message}", path.display())]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What was found and what was expected.
+        message: String,
+    },
+    /// One ray is unusable.
+    #[error("{}: ray {row}: {message}", path.display())]
+    BadRay {
+        /// The file.
+        path: PathBuf,
+        /// Row index (0-based).
+        row: usize,
+        /// What is wrong with it.
+        message: &'static str,
+    },
+    /// Writing a result failed.
+    #[error(transparent)]
+    Write(#[from] OutputError),
+}
+
+/// Reads an `(N, 8)` float32 C-order `.npy` array of rays and checks every ray: finite origin,
+/// finite non-zero direction, `t_min` and `t_max` not NaN.
+pub fn read_rays(path: &Path) -> Result<Vec<[f32; RAY_COLUMNS]>, HitsError> {
+    let format = |message: String| HitsError::Format {
+        path: path.to_path_buf(),
+        message,
+    };
+    let bytes = std::fs::read(path).map_err(|source| HitsError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let npy = npyz::NpyFile::new(&bytes[..])
+        .map_err(|e| format(format!("not a valid .npy file ({e})")))?;
+    let dtype = npy.dtype();
+    let is_f32 = matches!(&dtype, npyz::DType::Plain(ts)
+        if ts.type_char() == npyz::TypeChar::Float && ts.size_field() == 4);
+    if !is_f32 {
+        return Err(format(format!(
+            "dtype is {}; expected float32 ('<f4')",
+            dtype.descr()
+        )));
+    }
+    let shape = npy.shape().to_vec();
+    if shape.len() != 2 || shape[1] != RAY_COLUMNS as u64 {
+        return Err(format(format!(
+            "shape is {shape:?}; expected (N, {RAY_COLUMNS}): origin xyz, direction xyz, t_min, t_max"
+        )));
+    }
+    if npy.order() != npyz::Order::C {
+        return Err(format("Fortran-order array; expected C order".into()));
+    }
+    let flat: Vec<f32> = npy
+        .into_vec()
+        .map_err(|e| format(format!("truncated or unreadable data ({e})")))?;
+    let rays: Vec<[f32; RAY_COLUMNS]> = flat
+        .chunks_exact(RAY_COLUMNS)
+        .map(|c| std::array::from_fn(|i| c[i]))
+        .collect();
+    for (row, r) in rays.iter().enumerate() {
+        if let Err(message) = check_ray(r) {
+            return Err(HitsError::BadRay {
+                path: path.to_path_buf(),
+                row,
+                message,
+            });
+        }
+    }
+    Ok(rays)
+}
+
+/// Why a ray row is unusable, if it is.
+fn check_ray(r: &[f32; RAY_COLUMNS]) -> Result<(), &'static str> {
+    let dir = Vec3::new(r[3], r[4], r[5]);
+    if !Vec3::new(r[0], r[1], r[2]).is_finite() {
+        return Err("origin is not finite");
+    }
+    if dir.is_nan() {
+        return Err("direction is NaN");
+    }
+    if !dir.is_finite() {
+        return Err("direction is infinite");
+    }
+    if dir == Vec3::ZERO {
+        return Err("direction is zero");
+    }
+    if r[6].is_nan() || r[7].is_nan() {
+        return Err("t_min or t_max is NaN");
+    }
+    Ok(())
+}
+
+/// Traces every ray through `accel` (built over `scene.geometry().prim_bounds()`) in parallel
+/// on the current rayon pool; row `i` of the result answers ray `i` (format in the module
+/// docs). Rays must have passed [`read_rays`]'s checks. The result does not depend on the
+/// thread count.
+pub fn trace_rays(
+    scene: &Scene,
+    accel: &Accel,
+    rays: &[[f32; RAY_COLUMNS]],
+    any_hit: bool,
+) -> Vec<[f32; HIT_COLUMNS]> {
+    let chunks: Vec<Vec<[f32; HIT_COLUMNS]>> = rays
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut stats = TraversalStats::default();
+            chunk
+                .iter()
+                .map(|r| trace_one(scene, accel, &to_ray(r), any_hit, &mut stats))
+                .collect()
+        })
+        .collect();
+    chunks.concat()
+}
+
+fn to_ray(r: &[f32; RAY_COLUMNS]) -> Ray {
+    Ray {
+        origin: Vec3::new(r[0], r[1], r[2]),
+        dir: Vec3::new(r[3], r[4], r[5]),
+        t_min: r[6],
+        t_max: r[7],
+    }
+}
+
+const MISS: [f32; HIT_COLUMNS] = [f32::INFINITY, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0];
+
+/// One hit row for `ray`.
+fn trace_one(
+    scene: &Scene,
+    accel: &Accel,
+    ray: &Ray,
+    any_hit: bool,
+    stats: &mut TraversalStats,
+) -> [f32; HIT_COLUMNS] {
+    let g = scene.geometry();
+    let wr = WatertightRay::new(ray.dir);
+    if any_hit {
+        // The traversal stops at the first blocker, so the last hit recorded is that blocker.
+        let mut t_hit = f32::INFINITY;
+        let blocked = accel.occluded(ray, stats, |p, r| match g.intersect(p, r, &wr) {
+            Some(h) => {
+                t_hit = h.t;
+                true
+            }
+            None => false,
+        });
+        let mut row = MISS;
+        if blocked {
+            row[0] = t_hit;
+        }
+        return row;
+    }
+    let Some(Hit { prim, hit }) = accel.intersect(ray, stats, |p, r| g.intersect(p, r, &wr)) else {
+        return MISS;
+    };
+    let mut hit_ray = *ray;
+    hit_ray.t_max = hit.t;
+    let n = g.surface(prim, &hit_ray, &hit).ng;
+    let kind = match g.prims()[prim as usize] {
+        Primitive::Sphere { .. } => 0.0,
+        Primitive::Triangle { .. } => 1.0,
+    };
+    [
+        hit.t,
+        prim as f32,
+        scene.object_of(prim) as f32,
+        hit.u,
+        hit.v,
+        n.x,
+        n.y,
+        n.z,
+        kind,
+    ]
+}
+
+/// Every triangle primitive of `scene` as `[prim id, v0 xyz, v1 xyz, v2 xyz]` in world space,
+/// in primitive order; spheres are skipped.
+pub fn triangle_rows(scene: &Scene) -> Vec<[f32; TRIANGLE_COLUMNS]> {
+    let g = scene.geometry();
+    g.prims()
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| match *p {
+            Primitive::Sphere { .. } => None,
+            Primitive::Triangle { mesh, tri } => {
+                let [a, b, c] = g.meshes()[mesh as usize].corners(tri);
+                Some([i as f32, a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z])
+            }
+        })
+        .collect()
+}
+
+/// Writes `rows` as an `(len, N)` float32 C-order `.npy` array, atomically (temporary file in
+/// the same folder, then rename), so `path` is never left half-written.
+pub fn write_rows<const N: usize>(path: &Path, rows: &[[f32; N]]) -> Result<(), HitsError> {
+    write_atomically(path, |w| {
+        let io_err = |source| OutputError::Write {
+            path: path.to_path_buf(),
+            source,
+        };
+        let mut npy = npyz::WriteOptions::<f32>::new()
+            .default_dtype()
+            .shape(&[rows.len() as u64, N as u64])
+            .writer(&mut *w)
+            .begin_nd()
+            .map_err(io_err)?;
+        npy.extend(rows.iter().flatten().copied()).map_err(io_err)?;
+        npy.finish().map_err(io_err)?;
+        w.flush().map_err(io_err)
+    })?;
+    Ok(())
+}
