@@ -2,11 +2,11 @@
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
+mod cli_accel;
 mod cli_bench;
 mod cli_hits;
 mod cli_info;
 
-use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
 use lumis::output::{ExrMetadata, write_by_extension};
 use lumis::render::{RenderOptions, render};
 use lumis::stats::{PhaseTimes, summary};
@@ -85,22 +85,8 @@ struct RenderArgs {
     /// Seed of the sample streams.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Acceleration structure.
-    #[arg(long, value_enum, default_value_t = AccelKind::Sah)]
-    accel: AccelKind,
-    /// How the hierarchy is walked: front-to-back, the paper's scale-lights segments, or the
-    /// paper's exhaustive recursion.
-    #[arg(long, value_enum, default_value_t = TraversalKind::Ordered)]
-    traversal: TraversalKind,
-    /// First segment length of the segments traversal (world units).
-    #[arg(long, default_value_t = 2.0)]
-    segment_init: f32,
-    /// Segments double up to this length, then one unbounded pass follows.
-    #[arg(long, default_value_t = lumis::bench::PAPER_SEGMENT_MAX)]
-    segment_max: f32,
-    /// Largest leaf of the hierarchies (default: 4 for sah, 20 for bsp and bsmp, as in the paper).
-    #[arg(long)]
-    leaf_size: Option<usize>,
+    #[command(flatten)]
+    accel: cli_accel::AccelArgs,
     /// glTF files: index of the scene to render (default: the file's default scene).
     #[arg(long, value_name = "N")]
     gltf_scene: Option<usize>,
@@ -162,21 +148,12 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     st.height = args.height.unwrap_or(st.height);
     st.spp = args.spp.unwrap_or(st.spp);
     st.max_depth = args.max_depth.unwrap_or(st.max_depth);
-    let build = BuildOptions {
-        max_leaf_size: args.leaf_size.unwrap_or(args.accel.default_leaf_size()),
-    };
-    if build.max_leaf_size == 0 {
-        bail!("--leaf-size must be at least 1");
-    }
-    let traversal = args
-        .traversal
-        .with_params(args.segment_init, args.segment_max)?;
+    let choice = args.accel.validated()?;
     let outputs = output_paths(args)?;
     times.load = t.elapsed();
 
     let t = Instant::now();
-    let accel =
-        Accel::build(args.accel, &scene.geometry().prim_bounds(), &build).with_traversal(traversal);
+    let accel = choice.build(&scene.geometry().prim_bounds());
     times.build = t.elapsed();
 
     let t = Instant::now();
@@ -243,30 +220,6 @@ fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
         );
     }
     Ok(paths)
-}
-
-/// The `--traversal` choice; segment lengths come from their own flags.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum TraversalKind {
-    Ordered,
-    Segments,
-    /// The paper's own walk: every crossed node, no order, no culling (for comparisons).
-    Exhaustive,
-}
-
-impl TraversalKind {
-    fn with_params(self, init: f32, max: f32) -> Result<Traversal> {
-        match self {
-            TraversalKind::Ordered => Ok(Traversal::Ordered),
-            TraversalKind::Exhaustive => Ok(Traversal::Exhaustive),
-            TraversalKind::Segments if init > 0.0 && init.is_finite() && max.is_finite() => {
-                Ok(Traversal::Segments(SegmentParams { init, max }))
-            }
-            TraversalKind::Segments => {
-                bail!("--segment-init must be positive and both segment lengths finite")
-            }
-        }
-    }
 }
 
 fn has_extension(p: &Path, ext: &str) -> bool {
