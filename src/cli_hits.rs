@@ -1,10 +1,11 @@
-//! `lumis hits SCENE --rays rays.npy --out hits.npy`: batch ray queries for cross-checks
-//! (formats in `lumis::hits`).
+//! `lumis hits SCENE --rays rays.npy --out hits.npy`: batch ray queries for cross-checks and
+//! for timing against other tracers (formats in `lumis::hits`).
 
 use anyhow::{Context, Result};
 use clap::Args;
-use lumis::hits::{read_rays, trace_rays, triangle_rows, write_rows};
+use lumis::hits::{read_rays, sphere_rows, trace_rays, triangle_rows, write_rows, write_text};
 use std::path::PathBuf;
+use std::time::Instant;
 
 /// Arguments of `lumis hits`.
 #[derive(Args, Debug)]
@@ -31,18 +32,40 @@ pub struct HitsArgs {
     /// three world-space vertices.
     #[arg(long)]
     triangles_out: Option<PathBuf>,
+    /// Also write every sphere as float32 .npy of shape (K, 5): primitive id, centre xyz,
+    /// radius.
+    #[arg(long)]
+    spheres_out: Option<PathBuf>,
+    /// Trace the whole ray set this many times (for timing; the hits of the last run are
+    /// written, and every run gives the same hits).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    repeat: u32,
+    /// Write the phase times as JSON: {"rays", "load_s", "build_s", "trace_s": [one per run]}.
+    #[arg(long)]
+    timings: Option<PathBuf>,
 }
 
-/// Loads the scene and rays, traces them, writes the hits (and triangles).
+/// Loads the scene and rays, traces them, writes the hits (and triangles, spheres, timings).
 pub fn run_hits(args: &HitsArgs) -> Result<()> {
+    let accel_kind = args.accel.validated()?;
+    let start = Instant::now();
     let scene = lumis::scene::load(&args.scene)?;
+    let load_s = start.elapsed().as_secs_f64();
     let rays = read_rays(&args.rays)?;
-    let accel = args
-        .accel
-        .validated()?
-        .build(&scene.geometry().prim_bounds());
-    let run = || trace_rays(&scene, &accel, &rays, args.any_hit);
-    let hits = match args.threads {
+    let start = Instant::now();
+    let accel = accel_kind.build(&scene.geometry().prim_bounds());
+    let build_s = start.elapsed().as_secs_f64();
+    let run = || {
+        let mut hits = Vec::new();
+        let mut trace_s = Vec::with_capacity(args.repeat as usize);
+        for _ in 0..args.repeat {
+            let start = Instant::now();
+            hits = trace_rays(&scene, &accel, &rays, args.any_hit);
+            trace_s.push(start.elapsed().as_secs_f64());
+        }
+        (hits, trace_s)
+    };
+    let (hits, trace_s) = match args.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
@@ -53,6 +76,18 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
     write_rows(&args.out, &hits)?;
     if let Some(path) = &args.triangles_out {
         write_rows(path, &triangle_rows(&scene))?;
+    }
+    if let Some(path) = &args.spheres_out {
+        write_rows(path, &sphere_rows(&scene))?;
+    }
+    if let Some(path) = &args.timings {
+        let runs: Vec<String> = trace_s.iter().map(|s| format!("{s:e}")).collect();
+        let json = format!(
+            "{{\"rays\": {}, \"load_s\": {load_s:e}, \"build_s\": {build_s:e}, \"trace_s\": [{}]}}\n",
+            rays.len(),
+            runs.join(", ")
+        );
+        write_text(path, &json)?;
     }
     Ok(())
 }

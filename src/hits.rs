@@ -12,6 +12,7 @@
 //!   blocker the traversal met first (not necessarily the nearest; `+inf` when unoccluded),
 //!   ids and kind `-1`, the rest 0.
 //! - triangles `(M, 10)`: primitive id, then the three world-space vertices.
+//! - spheres `(K, 5)`: primitive id, world-space centre xyz, radius.
 //!
 //! Ids are stored as float32, exact up to 2^24.
 
@@ -33,6 +34,8 @@ pub const RAY_COLUMNS: usize = 8;
 pub const HIT_COLUMNS: usize = 9;
 /// Floats per triangle row.
 pub const TRIANGLE_COLUMNS: usize = 10;
+/// Floats per sphere row.
+pub const SPHERE_COLUMNS: usize = 5;
 
 /// Rays per parallel work item: large enough to amortise scheduling, small enough to balance.
 const CHUNK: usize = 1024;
@@ -240,6 +243,35 @@ pub fn triangle_rows(scene: &Scene) -> Vec<[f32; TRIANGLE_COLUMNS]> {
             }
         })
         .collect()
+}
+
+/// Every sphere primitive of `scene` as `[prim id, centre xyz, radius]` in world space, in
+/// primitive order; triangles are skipped.
+pub fn sphere_rows(scene: &Scene) -> Vec<[f32; SPHERE_COLUMNS]> {
+    let g = scene.geometry();
+    g.prims()
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| match *p {
+            Primitive::Sphere { sphere } => {
+                let s = &g.spheres()[sphere as usize];
+                Some([i as f32, s.center.x, s.center.y, s.center.z, s.radius])
+            }
+            Primitive::Triangle { .. } => None,
+        })
+        .collect()
+}
+
+/// Writes `text` to `path` atomically (temporary file, then rename).
+pub fn write_text(path: &Path, text: &str) -> Result<(), HitsError> {
+    write_atomically(path, |w| {
+        w.write_all(text.as_bytes())
+            .map_err(|source| OutputError::Write {
+                path: path.to_path_buf(),
+                source,
+            })
+    })?;
+    Ok(())
 }
 
 /// Writes `rows` as an `(len, N)` float32 C-order `.npy` array, atomically (temporary file in

@@ -233,6 +233,66 @@ fn triangles_out_lists_the_quad_in_world_space() {
 }
 
 #[test]
+fn spheres_out_lists_the_ball_with_its_primitive_id() {
+    let (dir, scene) = setup();
+    let rays_path = dir.path().join("rays.npy");
+    write_rays(&rays_path, &[known_rays()[0].0]);
+    let out = dir.path().join("hits.npy");
+    let spheres = dir.path().join("spheres.npy");
+    let o = run_hits(
+        &scene,
+        &rays_path,
+        &out,
+        &["--spheres-out", spheres.to_str().unwrap()],
+    );
+    assert_ok(&o);
+    let (shape, rows) = read_f32(&spheres);
+    assert_eq!(shape, [1, 5]);
+    assert_eq!(rows[0], [0., 0., 0., 0., 1.]);
+}
+
+#[test]
+fn repeat_traces_every_run_and_timings_lists_each() {
+    let (dir, scene) = setup();
+    let rays_path = dir.path().join("rays.npy");
+    let cases = known_rays();
+    let rays: Vec<[f32; 8]> = cases.iter().map(|c| c.0).collect();
+    write_rays(&rays_path, &rays);
+    let once = dir.path().join("once.npy");
+    assert_ok(&run_hits(&scene, &rays_path, &once, &[]));
+    let thrice = dir.path().join("thrice.npy");
+    let timings = dir.path().join("t.json");
+    let t = timings.to_str().unwrap();
+    assert_ok(&run_hits(
+        &scene,
+        &rays_path,
+        &thrice,
+        &["--repeat", "3", "--timings", t],
+    ));
+    assert_eq!(
+        read_f32(&once),
+        read_f32(&thrice),
+        "repeating changes nothing"
+    );
+    let json = std::fs::read_to_string(&timings).unwrap();
+    assert!(
+        json.starts_with(&format!("{{\"rays\": {}, ", rays.len())),
+        "{json}"
+    );
+    let runs = json.split("\"trace_s\": [").nth(1).unwrap();
+    let runs: Vec<f64> = runs
+        .trim_end()
+        .trim_end_matches(['}', ']'])
+        .split(", ")
+        .map(|s| s.parse().unwrap())
+        .collect();
+    assert_eq!(runs.len(), 3, "{json}");
+    assert!(runs.iter().all(|&s| s >= 0.0 && s.is_finite()), "{json}");
+    let o = run_hits(&scene, &rays_path, &thrice, &["--repeat", "0"]);
+    assert!(!o.status.success(), "--repeat 0 must be refused");
+}
+
+#[test]
 fn output_is_identical_for_one_and_two_threads() {
     let (dir, scene) = setup();
     // A fan of 5000 rays from a fixed point, covering sphere, quad and empty space.
