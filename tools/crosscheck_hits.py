@@ -66,6 +66,9 @@ def main(argv=None):
                     help="p99 of |t_lumis - t_oracle| / t_oracle (default 1e-5)")
     ap.add_argument("--lumis-args", default="",
                     help="extra `lumis hits` arguments, e.g. \"--accel bsp --traversal segments\"")
+    ap.add_argument("--exact-samples", type=int, default=200,
+                    help="hit/miss disagreements at triangle edges settled in exact rational "
+                         "arithmetic (default 200)")
     ap.add_argument("--report", type=Path, help="write the JSON report here")
     ap.add_argument("--quiet", action="store_true", help="print only failures and the verdict")
     args = ap.parse_args(argv)
@@ -134,6 +137,8 @@ def crosscheck(args):
     lumis_leaks = int(np.sum(must_hit & ~(lh.t[seg] <= reach)))
     embree_leaks = int(np.sum(must_hit & ~(oh.t[seg] <= reach)))
 
+    verdicts = exact_verdicts(rays, lh, oh, a, LumisPrims(l_tris, l_spheres), g,
+                              args.exact_samples)
     summary = {
         "scene": str(scene),
         "lumis_args": args.lumis_args,
@@ -155,6 +160,7 @@ def crosscheck(args):
                        "lumis_leaks": lumis_leaks, "embree_leaks": embree_leaks},
         "disagreements": a["classes"],
         "edge_detail": a["edge_detail"],
+        "edge_hit_miss_exact_verdicts": verdicts,
         "disagreements_by_set": {
             k: {c: int(np.sum((label == i) & (a["cls"] == c))) for c in a["classes"]}
             for i, k in enumerate(names)},
@@ -267,6 +273,41 @@ def analyse(g, lumis_g, idmap, rays, lh, oh, aimed_at_edge):
             "hitmiss_off_edge": int(np.sum(hitmiss & ~near_edge)), "rel_t": rel_t,
             "normal_mismatches": normal_mismatches, "near_edge": near_edge, "cls": cls,
             "classes": classes}
+
+
+def exact_verdicts(rays, lh, oh, a, lumis_prims, g, limit):
+    """Settles up to `limit` hit/miss disagreements at triangle edges exactly: does the float32
+    ray meet the float32 triangle the hitting engine reported (edges included), in rational
+    arithmetic? Counts which engine was right."""
+    from fractions import Fraction
+
+    l_hit, o_hit = np.isfinite(lh.t), np.isfinite(oh.t)
+    lk, li = lumis_prims.kind_index(lh.prim)
+    picks = np.flatnonzero((l_hit != o_hit) & a["near_edge"]
+                           & np.where(l_hit, lk == 1, oh.kind == 1))[:limit]
+    out = {"settled": int(len(picks)), "lumis_right": 0, "embree_right": 0}
+    for i in picks:
+        tri = lumis_prims.geometry.triangles[li[i]] if l_hit[i] else g.triangles[oh.index[i]]
+        q = [Fraction(float(x)) for x in rays[i, :6]]
+        o, d = q[:3], q[3:]
+        v = [[Fraction(float(x)) - o[k] for k, x in enumerate(p)] for p in tri]
+        w = [det3(d, v[k], v[(k + 1) % 3]) for k in range(3)]
+        crosses = (all(x >= 0 for x in w) or all(x <= 0 for x in w)) and any(w)
+        if crosses:
+            n = cross3([v[1][k] - v[0][k] for k in range(3)], [v[2][k] - v[0][k] for k in range(3)])
+            den = sum(n[k] * d[k] for k in range(3))
+            crosses = den != 0 and sum(n[k] * v[0][k] for k in range(3)) / den > 0
+        right = "lumis_right" if bool(crosses) == bool(l_hit[i]) else "embree_right"
+        out[right] += 1
+    return out
+
+
+def cross3(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def det3(a, b, c):
+    return sum(x * y for x, y in zip(a, cross3(b, c)))
 
 
 def percentiles(x):
