@@ -57,7 +57,9 @@ optimisations that reduce arithmetic accuracy, so rays do not slip through share
 closest match to lumis's watertight triangle test; --no-robust drops it.
 
 Agreement: the hits of both engines are compared per ray (same hit/miss, same triangle id,
-t within 1e-4 relative) to show both did the same work.
+t within 1e-4 relative) to show both did the same work. The triangle-id column assumes both
+number the triangles in file order, as they do for one mesh (.m, a single-mesh GLB); for other
+scenes rely on hit/miss and t.
 
 lumis is $LUMIS_BIN or target/release/lumis of this checkout (run `cargo build --release`
 first: a stale binary is used as is). Needs numpy, embreex and trimesh
