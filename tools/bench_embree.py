@@ -94,6 +94,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from lumis_tools import lumis as lumis_run  # noqa: E402
 from lumis_tools.geometry import LoadError, load_geometry  # noqa: E402
+from lumis_tools.rays import pack, unit  # noqa: E402
 
 CAMERA_FOV_DEG = 40.0
 T_RTOL = 1e-4
@@ -187,13 +188,8 @@ def prepare_model(model: Path, subdivide: int, tmp: Path):
 
 
 def rays_array(origins, dirs):
-    n = len(origins)
-    rays = np.empty((n, 8), np.float32)
-    rays[:, 0:3] = origins
-    rays[:, 3:6] = dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
-    rays[:, 6] = 0.0
-    rays[:, 7] = np.inf
-    return rays
+    """float32 (N, 8) rays with unit directions, t in [0, inf)."""
+    return pack(origins, unit(dirs))
 
 
 def incoherent_rays(lo, hi, n, seed):

@@ -111,6 +111,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import OpenImageIO as oiio  # noqa: E402
 
 from lumis_tools import lumis as lumis_bin  # noqa: E402
+from lumis_tools.prims import LumisPrims, Prims  # noqa: E402
 
 EXIT_OK, EXIT_WARN, EXIT_FAIL, EXIT_SIZE, EXIT_FILE = 0, 1, 2, 3, 4
 STATUS = {EXIT_OK: "pass", EXIT_WARN: "warn", EXIT_FAIL: "fail", EXIT_SIZE: "differ",
@@ -428,45 +429,6 @@ class Probe:
     near_boundary: np.ndarray
     tol: np.ndarray
     boundary: np.ndarray  # distance of the ray's surface point to the boundary / rim
-
-
-@dataclass
-class Prims:
-    """Primitives to probe, one per ray: kind (-1 none, 0 sphere, 1 triangle), triangle
-    corners (k, 3, 3) and sphere rows (k, 4), whichever the kind says."""
-
-    kind: np.ndarray
-    tris: np.ndarray
-    spheres: np.ndarray
-
-    @staticmethod
-    def of_oracle(geom, kind, index):
-        k = len(kind)
-        tris, spheres = np.zeros((k, 3, 3)), np.zeros((k, 4))
-        tri, sph = kind == 1, kind == 0
-        tris[tri] = geom.triangles[index[tri]]
-        spheres[sph] = geom.spheres[index[sph]]
-        return Prims(kind, tris, spheres)
-
-
-class LumisPrims:
-    """lumis's own primitives (`lumis hits --triangles-out/--spheres-out`) by primitive id."""
-
-    def __init__(self, l_tris, l_spheres):
-        n = max(int(max([-1, *l_tris[:, 0], *l_spheres[:, 0]])) + 1, 1)
-        self.kind = np.full(n, -1, np.int64)
-        self.tris = np.zeros((n, 3, 3))
-        self.spheres = np.zeros((n, 4))
-        ti = l_tris[:, 0].astype(np.int64)
-        si = l_spheres[:, 0].astype(np.int64)
-        self.kind[ti], self.kind[si] = 1, 0
-        self.tris[ti] = l_tris[:, 1:].astype(np.float64).reshape(-1, 3, 3)
-        self.spheres[si] = l_spheres[:, 1:].astype(np.float64)
-
-    def of(self, prim):
-        ok = (prim >= 0) & (prim < len(self.kind))
-        p = np.where(ok, prim, 0)
-        return Prims(np.where(ok, self.kind[p], -1), self.tris[p], self.spheres[p])
 
 
 def _tolerance(d, t, q, rel):

@@ -41,9 +41,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from lumis_tools import lumis, rays as raysets  # noqa: E402
-from lumis_tools.geometry import Geometry, LoadError, load_geometry  # noqa: E402
+from lumis_tools.geometry import LoadError, load_geometry  # noqa: E402
 from lumis_tools.idmap import IdMap, snap_to_lumis  # noqa: E402
 from lumis_tools.oracle import Oracle  # noqa: E402
+from lumis_tools.prims import LumisPrims  # noqa: E402
 
 EDGE_REL = 1e-5
 GRAZING_COS = 1e-2
@@ -126,7 +127,8 @@ def crosscheck(args):
     aimed = np.zeros(len(rays), bool)
     near_target = lambda t: np.abs(t - t_target) <= 1e-4 * t_target  # noqa: E731
     aimed[edge_slice] = near_target(lh.t[edge_slice]) | near_target(oh.t[edge_slice])
-    a = analyse(g, LumisPrims(l_tris, l_spheres), idmap, rays, lh, oh, aimed)
+    lumis_prims = LumisPrims(l_tris, l_spheres)
+    a = analyse(g, lumis_prims, idmap, rays, lh, oh, aimed)
     l_hit, o_hit = np.isfinite(lh.t), np.isfinite(oh.t)
     any_disagree = np.isfinite(la.t) != o_hit
     any_off_edge = int(np.sum(any_disagree & ~a["near_edge"]))
@@ -137,7 +139,7 @@ def crosscheck(args):
     lumis_leaks = int(np.sum(must_hit & ~(lh.t[seg] <= reach)))
     embree_leaks = int(np.sum(must_hit & ~(oh.t[seg] <= reach)))
 
-    verdicts = exact_verdicts(rays, lh, oh, a, LumisPrims(l_tris, l_spheres), g,
+    verdicts = exact_verdicts(rays, lh, oh, a, lumis_prims, g,
                               args.exact_samples)
     summary = {
         "scene": str(scene),
@@ -188,29 +190,6 @@ def crosscheck(args):
                     np.flatnonzero(a["cls"] == c)[:10]]
                 for c in ("edge", "grazing", "coincident", "other")}
     return {"summary": summary, "failures": failures, "examples": examples}
-
-
-class LumisPrims:
-    """lumis's own primitives (from --triangles-out / --spheres-out) as a Geometry."""
-
-    def __init__(self, tris, spheres):
-        self.geometry = Geometry()
-        self.geometry.triangles = tris[:, 1:].astype(np.float64).reshape(-1, 3, 3)
-        self.geometry.spheres = spheres[:, 1:].astype(np.float64)
-        total = int(max([-1, *tris[:, 0], *spheres[:, 0]])) + 1
-        self.kind = np.full(total, -1, np.int64)
-        self.index = np.full(total, -1, np.int64)
-        for rows, kind in ((tris, 1), (spheres, 0)):
-            ids = rows[:, 0].astype(np.int64)
-            self.kind[ids] = kind
-            self.index[ids] = np.arange(len(ids))
-
-    def kind_index(self, prims):
-        ok = (prims >= 0) & (prims < len(self.kind))
-        kind = np.full(prims.shape, -1, np.int64)
-        index = np.full(prims.shape, -1, np.int64)
-        kind[ok], index[ok] = self.kind[prims[ok]], self.index[prims[ok]]
-        return kind, index
 
 
 def pct(num, den):
