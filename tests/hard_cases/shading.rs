@@ -1,4 +1,4 @@
-//! Numerically hard scenes: a ground sphere of radius 1e7 and a small far sphere must render
+//! Rendered hard cases: a ground sphere of radius 1e7 and a small far sphere must render
 //! without holes or speckles; secondary rays must not self-intersect far from the origin.
 
 use lumis::accel::{Accel, AccelKind, BuildOptions};
