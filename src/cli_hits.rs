@@ -3,7 +3,9 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use lumis::hits::{read_rays, sphere_rows, trace_rays, triangle_rows, write_rows, write_text};
+use lumis::hits::{
+    read_rays, spawn_rows, sphere_rows, trace_rays, triangle_rows, write_rows, write_text,
+};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -25,6 +27,13 @@ pub struct HitsArgs {
     any_hit: bool,
     #[command(flatten)]
     accel: crate::cli_accel::AccelArgs,
+    #[command(flatten)]
+    accuracy: crate::cli_accuracy::AccuracyArgs,
+    /// Also write, per ray, where a secondary ray leaving its hit would start under the
+    /// --offset rule: float32 .npy (N, 6), the origin on the side the ray came from (xyz) and
+    /// on the far side (xyz); inf for misses.
+    #[arg(long)]
+    spawn_out: Option<PathBuf>,
     /// Worker threads (default: all cores); the output is the same for any count.
     #[arg(long)]
     threads: Option<usize>,
@@ -49,7 +58,8 @@ pub struct HitsArgs {
 pub fn run_hits(args: &HitsArgs) -> Result<()> {
     let accel_kind = args.accel.validated()?;
     let start = Instant::now();
-    let scene = lumis::scene::load(&args.scene)?;
+    let mut scene = lumis::scene::load(&args.scene)?;
+    args.accuracy.apply(scene.settings_mut())?;
     let load_s = start.elapsed().as_secs_f64();
     let rays = read_rays(&args.rays)?;
     let start = Instant::now();
@@ -74,6 +84,9 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
         None => run(),
     };
     write_rows(&args.out, &hits)?;
+    if let Some(path) = &args.spawn_out {
+        write_rows(path, &spawn_rows(&scene, &accel, &rays))?;
+    }
     if let Some(path) = &args.triangles_out {
         write_rows(path, &triangle_rows(&scene))?;
     }

@@ -13,6 +13,9 @@
 //!   ids and kind `-1`, the rest 0.
 //! - triangles `(M, 10)`: primitive id, then the three world-space vertices.
 //! - spheres `(K, 5)`: primitive id, world-space centre xyz, radius.
+//! - spawn origins `(N, 6)`, row `i` for ray `i`: where a secondary ray leaving the hit would
+//!   start under the scene's `offset` rule, on the side the ray came from (xyz, what shadow and
+//!   reflection rays use) and on the far side (xyz, what refraction uses); `+inf` for misses.
 //!
 //! Ids are stored as float32, exact up to 2^24.
 
@@ -23,7 +26,7 @@ use npyz::WriterBuilder;
 use rayon::prelude::*;
 
 use crate::accel::{Accel, Hit, TraversalStats};
-use crate::geometry::{Primitive, WatertightRay};
+use crate::geometry::{Precision, PrimHit, Primitive, WatertightRay};
 use crate::math::{Ray, Vec3};
 use crate::output::{OutputError, write_atomically};
 use crate::scene::Scene;
@@ -36,6 +39,8 @@ pub const HIT_COLUMNS: usize = 9;
 pub const TRIANGLE_COLUMNS: usize = 10;
 /// Floats per sphere row.
 pub const SPHERE_COLUMNS: usize = 5;
+/// Floats per spawn row.
+pub const SPAWN_COLUMNS: usize = 6;
 
 /// Rays per parallel work item: large enough to amortise scheduling, small enough to balance.
 const CHUNK: usize = 1024;
@@ -148,24 +153,56 @@ fn check_ray(r: &[f32; RAY_COLUMNS]) -> Result<(), &'static str> {
 /// Traces every ray through `accel` (built over `scene.geometry().prim_bounds()`) in parallel
 /// on the current rayon pool; row `i` of the result answers ray `i` (format in the module
 /// docs). Rays must have passed [`read_rays`]'s checks. The result does not depend on the
-/// thread count.
+/// thread count. Primitives are intersected with the scene's `precision`.
 pub fn trace_rays(
     scene: &Scene,
     accel: &Accel,
     rays: &[[f32; RAY_COLUMNS]],
     any_hit: bool,
 ) -> Vec<[f32; HIT_COLUMNS]> {
-    let chunks: Vec<Vec<[f32; HIT_COLUMNS]>> = rays
+    trace_all(rays, |query, stats| query.row(scene, accel, any_hit, stats))
+}
+
+/// For every ray, the spawn origins of its hit (see the module docs); rays that miss get `inf`.
+pub fn spawn_rows(
+    scene: &Scene,
+    accel: &Accel,
+    rays: &[[f32; RAY_COLUMNS]],
+) -> Vec<[f32; SPAWN_COLUMNS]> {
+    let offset = scene.settings().offset;
+    trace_all(rays, |query, stats| {
+        match scene.intersect(accel, &query.ray, stats) {
+            None => [f32::INFINITY; SPAWN_COLUMNS],
+            Some(hit) => {
+                let back = hit.surface.spawn_origin(-query.ray.dir, offset);
+                let through = hit.surface.spawn_origin(query.ray.dir, offset);
+                [back.x, back.y, back.z, through.x, through.y, through.z]
+            }
+        }
+    })
+}
+
+/// Runs `f` over every ray in parallel chunks, keeping the input order.
+fn trace_all<const N: usize>(
+    rays: &[[f32; RAY_COLUMNS]],
+    f: impl Fn(&Query, &mut TraversalStats) -> [f32; N] + Sync,
+) -> Vec<[f32; N]> {
+    let chunks: Vec<Vec<[f32; N]>> = rays
         .par_chunks(CHUNK)
         .map(|chunk| {
             let mut stats = TraversalStats::default();
             chunk
                 .iter()
-                .map(|r| trace_one(scene, accel, &to_ray(r), any_hit, &mut stats))
+                .map(|r| f(&Query { ray: to_ray(r) }, &mut stats))
                 .collect()
         })
         .collect();
     chunks.concat()
+}
+
+/// One ray of the batch.
+struct Query {
+    ray: Ray,
 }
 
 fn to_ray(r: &[f32; RAY_COLUMNS]) -> Ray {
@@ -179,53 +216,78 @@ fn to_ray(r: &[f32; RAY_COLUMNS]) -> Ray {
 
 const MISS: [f32; HIT_COLUMNS] = [f32::INFINITY, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0];
 
-/// One hit row for `ray`.
-fn trace_one(
-    scene: &Scene,
-    accel: &Accel,
-    ray: &Ray,
-    any_hit: bool,
-    stats: &mut TraversalStats,
-) -> [f32; HIT_COLUMNS] {
-    let g = scene.geometry();
-    let wr = WatertightRay::new(ray.dir);
-    if any_hit {
-        // The traversal stops at the first blocker, so the last hit recorded is that blocker.
-        let mut t_hit = f32::INFINITY;
-        let blocked = accel.occluded(ray, stats, |p, r| match g.intersect(p, r, &wr) {
-            Some(h) => {
-                t_hit = h.t;
-                true
+impl Query {
+    /// The hit row, with the primitive test the scene's precision selects (chosen once per ray).
+    fn row(
+        &self,
+        scene: &Scene,
+        accel: &Accel,
+        any_hit: bool,
+        stats: &mut TraversalStats,
+    ) -> [f32; HIT_COLUMNS] {
+        let g = scene.geometry();
+        match scene.settings().precision {
+            Precision::Watertight => {
+                let wr = WatertightRay::new(self.ray.dir);
+                self.row_with(scene, accel, any_hit, stats, |p, r| g.intersect(p, r, &wr))
             }
-            None => false,
-        });
-        let mut row = MISS;
-        if blocked {
-            row[0] = t_hit;
+            Precision::Fast => {
+                self.row_with(scene, accel, any_hit, stats, |p, r| g.intersect_fast(p, r))
+            }
+            Precision::Double => self.row_with(scene, accel, any_hit, stats, |p, r| {
+                g.intersect_double(p, r)
+            }),
         }
-        return row;
     }
-    let Some(Hit { prim, hit }) = accel.intersect(ray, stats, |p, r| g.intersect(p, r, &wr)) else {
-        return MISS;
-    };
-    let mut hit_ray = *ray;
-    hit_ray.t_max = hit.t;
-    let n = g.surface(prim, &hit_ray, &hit).ng;
-    let kind = match g.prims()[prim as usize] {
-        Primitive::Sphere { .. } => 0.0,
-        Primitive::Triangle { .. } => 1.0,
-    };
-    [
-        hit.t,
-        prim as f32,
-        scene.object_of(prim) as f32,
-        hit.u,
-        hit.v,
-        n.x,
-        n.y,
-        n.z,
-        kind,
-    ]
+
+    fn row_with(
+        &self,
+        scene: &Scene,
+        accel: &Accel,
+        any_hit: bool,
+        stats: &mut TraversalStats,
+        test: impl Fn(u32, &Ray) -> Option<PrimHit>,
+    ) -> [f32; HIT_COLUMNS] {
+        let ray = &self.ray;
+        let g = scene.geometry();
+        if any_hit {
+            // The traversal stops at the first blocker, so the last hit recorded is that blocker.
+            let mut t_hit = f32::INFINITY;
+            let blocked = accel.occluded(ray, stats, |p, r| match test(p, r) {
+                Some(h) => {
+                    t_hit = h.t;
+                    true
+                }
+                None => false,
+            });
+            let mut row = MISS;
+            if blocked {
+                row[0] = t_hit;
+            }
+            return row;
+        }
+        let Some(Hit { prim, hit }) = accel.intersect(ray, stats, test) else {
+            return MISS;
+        };
+        let mut hit_ray = *ray;
+        hit_ray.t_max = hit.t;
+        let n = g.surface(prim, &hit_ray, &hit).ng;
+        let kind = match g.prims()[prim as usize] {
+            Primitive::Sphere { .. } => 0.0,
+            Primitive::Triangle { .. } => 1.0,
+        };
+        [
+            hit.t,
+            prim as f32,
+            scene.object_of(prim) as f32,
+            hit.u,
+            hit.v,
+            n.x,
+            n.y,
+            n.z,
+            kind,
+        ]
+    }
 }
 
 /// Every triangle primitive of `scene` as `[prim id, v0 xyz, v1 xyz, v2 xyz]` in world space,

@@ -3,6 +3,7 @@
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 mod cli_accel;
+mod cli_accuracy;
 mod cli_bench;
 mod cli_hits;
 mod cli_info;
@@ -87,6 +88,10 @@ struct RenderArgs {
     seed: u64,
     #[command(flatten)]
     accel: cli_accel::AccelArgs,
+    #[command(flatten)]
+    accuracy: cli_accuracy::AccuracyArgs,
+    #[command(flatten)]
+    cutoff: cli_accuracy::CutoffArgs,
     /// glTF files: index of the scene to render (default: the file's default scene).
     #[arg(long, value_name = "N")]
     gltf_scene: Option<usize>,
@@ -148,6 +153,8 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     st.height = args.height.unwrap_or(st.height);
     st.spp = args.spp.unwrap_or(st.spp);
     st.max_depth = args.max_depth.unwrap_or(st.max_depth);
+    args.accuracy.apply(st)?;
+    args.cutoff.apply(st)?;
     let choice = args.accel.validated()?;
     let outputs = output_paths(args)?;
     times.load = t.elapsed();

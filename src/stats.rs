@@ -41,6 +41,13 @@ pub fn summary(
         "rays: {total} total = camera {} + aov {} + shadow {} + reflection {} + refraction {}",
         counts.camera, counts.aov, counts.shadow, counts.reflection, counts.refraction
     );
+    if counts.cut > 0 {
+        let _ = writeln!(
+            s,
+            "cutoff: {} reflection/refraction branches below the cutoff not traced",
+            counts.cut
+        );
+    }
     let mrays = total as f64 / secs(times.render).max(1e-9) / 1e6;
     let _ = writeln!(s, "speed: {mrays:.2} Mrays/s");
     if detailed {

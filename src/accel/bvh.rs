@@ -3,9 +3,10 @@
 //! Node 0 is the root. An interior node's children sit next to each other at `first` and
 //! `first + 1`; a leaf holds `count > 0` entries of `prim_order` starting at `first`.
 
+use super::slab::{Slab, with_slab};
 use super::{Closest, Hit, TraversalStats};
 use crate::geometry::PrimHit;
-use crate::math::{Aabb, Ray, Vec3A, gamma, safe_inverse};
+use crate::math::{Aabb, Ray, gamma};
 
 /// Traversal stack depth; builders stop splitting well before this (depth is checked in `validate`).
 pub(crate) const MAX_DEPTH: usize = 64;
@@ -35,8 +36,10 @@ impl CullBound {
             .max(root.min.abs())
             .max(root.max.abs())
             .max_element();
+        // The length in f64: squares of subnormal or huge components under/overflow in f32.
+        let slack = gamma(16) as f64 * scale as f64 / ray.dir.as_dvec3().length();
         Self {
-            slack: gamma(16) * scale / ray.dir.length(),
+            slack: (slack as f32).next_up(),
         }
     }
 
@@ -106,16 +109,12 @@ impl Bvh {
     where
         F: FnMut(u32, &Ray) -> Option<PrimHit>,
     {
-        // Only a zero (or denormal) direction component can make the slab test meet `0 * inf`.
-        if safe_inverse(ray.dir).is_finite() {
-            self.intersect_with::<false, F>(ray, stats, test)
-        } else {
-            self.intersect_with::<true, F>(ray, stats, test)
-        }
+        with_slab!(ray, |slab| self.intersect_with(slab, ray, stats, test))
     }
 
-    fn intersect_with<const AXIS_PARALLEL: bool, F>(
+    fn intersect_with<S: Slab, F>(
         &self,
+        slab: S,
         ray: &Ray,
         stats: &mut TraversalStats,
         mut test: F,
@@ -126,8 +125,6 @@ impl Bvh {
         if self.nodes.is_empty() {
             return None;
         }
-        let origin = Vec3A::from(ray.origin);
-        let inv = safe_inverse(ray.dir);
         let mut closest = Closest::new(ray);
         let mut stack = [0u32; MAX_DEPTH + 1];
         let mut sp = 0;
@@ -136,8 +133,7 @@ impl Bvh {
         // Fixed for the whole traversal: only `t_max` shrinks as hits are found.
         let t_min = cull.lower(ray.t_min);
         stats.nodes_visited += 1;
-        node.bounds
-            .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, cull.widen(ray.t_max))?;
+        slab.range(&node.bounds, t_min, cull.widen(ray.t_max))?;
         loop {
             if node.is_leaf() {
                 for &prim in self.leaf_prims(node) {
@@ -153,14 +149,8 @@ impl Bvh {
                 );
                 stats.nodes_visited += 2;
                 let t_max = cull.widen(closest.ray.t_max);
-                let hl = l
-                    .bounds
-                    .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, t_max)
-                    .map(|h| h.0);
-                let hr = r
-                    .bounds
-                    .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, t_max)
-                    .map(|h| h.0);
+                let hl = slab.range(&l.bounds, t_min, t_max).map(|h| h.0);
+                let hr = slab.range(&r.bounds, t_min, t_max).map(|h| h.0);
                 match (hl, hr) {
                     (Some(a), Some(b)) => {
                         let (near, far) = if a <= b {
@@ -191,13 +181,8 @@ impl Bvh {
                 }
                 sp -= 1;
                 let n = &self.nodes[stack[sp] as usize];
-                if n.bounds
-                    .hit_range_with::<AXIS_PARALLEL>(
-                        origin,
-                        inv,
-                        t_min,
-                        cull.widen(closest.ray.t_max),
-                    )
+                if slab
+                    .range(&n.bounds, t_min, cull.widen(closest.ray.t_max))
                     .is_some()
                 {
                     node = n;
@@ -212,15 +197,12 @@ impl Bvh {
     where
         F: FnMut(u32, &Ray) -> bool,
     {
-        if safe_inverse(ray.dir).is_finite() {
-            self.occluded_with::<false, F>(ray, stats, test)
-        } else {
-            self.occluded_with::<true, F>(ray, stats, test)
-        }
+        with_slab!(ray, |slab| self.occluded_with(slab, ray, stats, test))
     }
 
-    fn occluded_with<const AXIS_PARALLEL: bool, F>(
+    fn occluded_with<S: Slab, F>(
         &self,
+        slab: S,
         ray: &Ray,
         stats: &mut TraversalStats,
         mut test: F,
@@ -231,8 +213,6 @@ impl Bvh {
         if self.nodes.is_empty() {
             return false;
         }
-        let origin = Vec3A::from(ray.origin);
-        let inv = safe_inverse(ray.dir);
         let cull = CullBound::new(ray, &self.nodes[0].bounds);
         let (t_min, t_max) = (cull.lower(ray.t_min), cull.widen(ray.t_max));
         let mut stack = [0u32; MAX_DEPTH + 1];
@@ -242,11 +222,7 @@ impl Bvh {
             sp -= 1;
             let node = &self.nodes[stack[sp] as usize];
             stats.nodes_visited += 1;
-            if node
-                .bounds
-                .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, t_max)
-                .is_none()
-            {
+            if slab.range(&node.bounds, t_min, t_max).is_none() {
                 continue;
             }
             if node.is_leaf() {

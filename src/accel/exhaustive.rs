@@ -4,15 +4,29 @@
 //! paper measured for scale lights are gains over this walk.
 
 use super::bvh::{Bvh, CullBound, MAX_DEPTH};
+use super::slab::{Slab, with_slab};
 use super::{Closest, Hit, TraversalStats};
 use crate::geometry::PrimHit;
-use crate::math::{Ray, Vec3A, safe_inverse};
+use crate::math::Ray;
 
 impl Bvh {
     /// Nearest hit, visiting every node the ray's line crosses within its original range.
     /// The same answer as [`Bvh::intersect`]; only the work differs.
     pub fn intersect_exhaustive<F>(
         &self,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        test: F,
+    ) -> Option<Hit>
+    where
+        F: FnMut(u32, &Ray) -> Option<PrimHit>,
+    {
+        with_slab!(ray, |slab| self.exhaustive_with(slab, ray, stats, test))
+    }
+
+    fn exhaustive_with<S: Slab, F>(
+        &self,
+        slab: S,
         ray: &Ray,
         stats: &mut TraversalStats,
         mut test: F,
@@ -24,8 +38,6 @@ impl Bvh {
         if nodes.is_empty() {
             return None;
         }
-        let origin = Vec3A::from(ray.origin);
-        let inv = safe_inverse(ray.dir);
         let cull = CullBound::new(ray, &nodes[0].bounds);
         // The range never shrinks: that is the point of this traversal.
         let (t_min, t_max) = (cull.lower(ray.t_min), cull.widen(ray.t_max));
@@ -36,7 +48,7 @@ impl Bvh {
             sp -= 1;
             let node = &nodes[stack[sp] as usize];
             stats.nodes_visited += 1;
-            if node.bounds.hit_range(origin, inv, t_min, t_max).is_none() {
+            if slab.range(&node.bounds, t_min, t_max).is_none() {
                 continue;
             }
             if node.is_leaf() {

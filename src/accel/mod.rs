@@ -14,6 +14,7 @@ mod bvh;
 mod exhaustive;
 pub(crate) mod sah;
 mod segments;
+mod slab;
 
 pub use bsp::SplitRule;
 pub use bvh::{Bvh, Node};

@@ -13,9 +13,10 @@
 //!   just finished; a farther one is kept as a candidate (and culls by its distance) meanwhile.
 
 use super::bvh::{Bvh, CullBound, MAX_DEPTH, Node};
+use super::slab::{Slab, with_slab};
 use super::{Closest, Hit, TraversalStats};
 use crate::geometry::PrimHit;
-use crate::math::{Ray, Vec3A, safe_inverse};
+use crate::math::Ray;
 
 /// Segment lengths of the scale-lights traversal, in world units along the ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,7 +32,7 @@ struct Segments {
     t0: f32,
     len: f32,
     max: f32,
-    dir_len: f32,
+    dir_len: f64,
     index: u32,
 }
 
@@ -41,7 +42,8 @@ impl Segments {
             t0: ray.t_min,
             len: p.init,
             max: p.max,
-            dir_len: ray.dir.length(),
+            // In f64: squares of subnormal or huge components under/overflow in f32.
+            dir_len: ray.dir.as_dvec3().length(),
             index: 0,
         }
     }
@@ -49,7 +51,7 @@ impl Segments {
     /// End of the current segment.
     fn t1(&self) -> f32 {
         if self.len <= self.max {
-            self.t0 + self.len / self.dir_len
+            self.t0 + (self.len as f64 / self.dir_len) as f32
         } else {
             f32::INFINITY
         }
@@ -143,16 +145,13 @@ impl Bvh {
         accept_any: bool,
         visit: &mut dyn FnMut(u32, &mut Closest) -> bool,
     ) -> Option<Hit> {
-        // As in the ordered traversal: the NaN-safe slab test only for axis-parallel rays.
-        if safe_inverse(ray.dir).is_finite() {
-            self.walk_with::<false>(ray, p, stats, accept_any, visit)
-        } else {
-            self.walk_with::<true>(ray, p, stats, accept_any, visit)
-        }
+        with_slab!(ray, |slab| self
+            .walk_with(slab, ray, p, stats, accept_any, visit))
     }
 
-    fn walk_with<const AXIS_PARALLEL: bool>(
+    fn walk_with<S: Slab>(
         &self,
+        slab: S,
         ray: &Ray,
         p: &SegmentParams,
         stats: &mut TraversalStats,
@@ -162,8 +161,6 @@ impl Bvh {
         if self.nodes().is_empty() {
             return None;
         }
-        let origin = Vec3A::from(ray.origin);
-        let inv = safe_inverse(ray.dir);
         let mut closest = Closest::new(ray);
         let mut seg = Segments::new(ray, p);
         let nodes = self.nodes();
@@ -184,10 +181,7 @@ impl Bvh {
                 let node: &Node = &nodes[stack[sp] as usize];
                 stats.nodes_visited += 1;
                 let upper = cull.widen(t1.min(closest.ray.t_max));
-                let Some((near, far)) = node
-                    .bounds
-                    .hit_range_with::<AXIS_PARALLEL>(origin, inv, t_min, upper)
-                else {
+                let Some((near, far)) = slab.range(&node.bounds, t_min, upper) else {
                     continue;
                 };
                 // Entirely before this segment: every leaf below was searched already.

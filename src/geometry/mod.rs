@@ -3,17 +3,28 @@
 //! [`Geometry`] owns the shapes and a flat list of [`Primitive`]s; accelerators refer to
 //! primitives by their index in that list and see only their bounding boxes.
 
+mod accuracy;
+mod conditioning;
 mod mesh;
 mod polygon;
 mod sphere;
+mod surface;
 mod triangle;
+
+pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsilon};
 
 pub use mesh::{Mesh, MeshError};
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
 pub use sphere::Sphere;
-pub use triangle::{TriangleHit, WatertightRay, face_normal, intersect_triangle};
+pub use surface::SurfacePoint;
+pub use triangle::{
+    TriangleHit, WatertightRay, face_normal, intersect_triangle, intersect_triangle_double,
+    intersect_triangle_fast,
+};
 
-use crate::math::{Aabb, Ray, Vec2, Vec3, gamma, offset_ray_origin};
+use crate::math::{Aabb, Ray, Vec2, Vec3};
+use glam::DVec3;
+use surface::rounded_with_error;
 
 /// One intersectable primitive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,37 +44,6 @@ pub struct PrimHit {
     pub u: f32,
     /// Barycentric weight of the triangle's third vertex.
     pub v: f32,
-}
-
-/// Differential geometry at a hit, in world space.
-#[derive(Clone, Copy, Debug)]
-pub struct SurfacePoint {
-    /// The hit point.
-    pub p: Vec3,
-    /// Unit geometric normal (outward for spheres; winding order for triangles).
-    pub ng: Vec3,
-    /// Unit shading normal (interpolated for smooth meshes), on the same side as `ng`.
-    pub ns: Vec3,
-    /// Texture coordinates.
-    pub uv: Vec2,
-    /// Per-component bound on the absolute error of `p` (pbrt's `pError`): how far the computed
-    /// point may lie from the true surface, for offsetting secondary rays.
-    pub p_error: Vec3,
-}
-
-impl SurfacePoint {
-    /// Origin for a ray leaving this point along `dir`: pushed off the surface past the error
-    /// bound of `p` along the geometric normal, then a few ulps more
-    /// ([`crate::math::offset_ray_origin`]), to the side `dir` points to.
-    pub fn spawn_origin(&self, dir: Vec3) -> Vec3 {
-        let n = if self.ng.dot(dir) < 0.0 {
-            -self.ng
-        } else {
-            self.ng
-        };
-        let past_error = self.p + n * self.ng.abs().dot(self.p_error);
-        offset_ray_origin(past_error, n, dir)
-    }
 }
 
 /// All shapes of a scene and the flat primitive list the accelerators index.
@@ -136,7 +116,8 @@ impl Geometry {
         self.meshes.iter().fold(s, |b, m| b.union(m.bounds()))
     }
 
-    /// Intersects primitive `index` with `ray` in `(t_min, t_max]`; `wr` is the ray's shear.
+    /// Intersects primitive `index` with `ray` in `(t_min, t_max]` with the default
+    /// (watertight) tests; `wr` is the ray's shear.
     #[inline]
     pub fn intersect(&self, index: u32, ray: &Ray, wr: &WatertightRay) -> Option<PrimHit> {
         match self.prims[index as usize] {
@@ -145,12 +126,52 @@ impl Geometry {
                 .map(|t| PrimHit { t, u: 0.0, v: 0.0 }),
             Primitive::Triangle { mesh, tri } => {
                 let [p0, p1, p2] = self.meshes[mesh as usize].corners(tri);
-                intersect_triangle(ray, wr, p0, p1, p2).map(|h| PrimHit {
-                    t: h.t,
-                    u: h.u,
-                    v: h.v,
-                })
+                intersect_triangle(ray, wr, p0, p1, p2).map(PrimHit::from)
             }
+        }
+    }
+
+    /// [`Geometry::intersect`] with the `--precision fast` tests.
+    #[inline]
+    pub fn intersect_fast(&self, index: u32, ray: &Ray) -> Option<PrimHit> {
+        match self.prims[index as usize] {
+            Primitive::Sphere { sphere } => self.spheres[sphere as usize]
+                .intersect_fast(ray)
+                .map(|t| PrimHit { t, u: 0.0, v: 0.0 }),
+            Primitive::Triangle { mesh, tri } => {
+                let [p0, p1, p2] = self.meshes[mesh as usize].corners(tri);
+                intersect_triangle_fast(ray, p0, p1, p2).map(PrimHit::from)
+            }
+        }
+    }
+
+    /// [`Geometry::intersect`] with the `--precision double` tests.
+    #[inline]
+    pub fn intersect_double(&self, index: u32, ray: &Ray) -> Option<PrimHit> {
+        match self.prims[index as usize] {
+            Primitive::Sphere { sphere } => self.spheres[sphere as usize]
+                .intersect_double(ray)
+                .map(|t| PrimHit { t, u: 0.0, v: 0.0 }),
+            Primitive::Triangle { mesh, tri } => {
+                let [p0, p1, p2] = self.meshes[mesh as usize].corners(tri);
+                intersect_triangle_double(ray, p0, p1, p2).map(PrimHit::from)
+            }
+        }
+    }
+
+    /// Intersects primitive `index` with the test `precision` selects.
+    #[inline]
+    pub fn intersect_with(
+        &self,
+        precision: Precision,
+        index: u32,
+        ray: &Ray,
+        wr: &WatertightRay,
+    ) -> Option<PrimHit> {
+        match precision {
+            Precision::Fast => self.intersect_fast(index, ray),
+            Precision::Watertight => self.intersect(index, ray, wr),
+            Precision::Double => self.intersect_double(index, ray),
         }
     }
 
@@ -160,27 +181,47 @@ impl Geometry {
             Primitive::Sphere { sphere } => {
                 let s = &self.spheres[sphere as usize];
                 // `o + t d` in f32 can cancel badly (o.z = 25, t d.z = -25); projecting onto
-                // the sphere in f64 leaves only the final rounding to f32 as error.
-                let p = s.project(ray.at(hit.t));
-                let n = s.normal_at(p);
+                // the sphere in f64 leaves only the final rounding to f32 as error, and that
+                // rounding is known exactly.
+                let c = s.center.as_dvec3();
+                let q = ray.origin.as_dvec3() + ray.dir.as_dvec3() * hit.t as f64;
+                let d = q - c;
+                let len = d.length();
+                let exact = if len > 0.0 {
+                    c + d * (s.radius as f64 / len)
+                } else {
+                    c + DVec3::new(0.0, s.radius as f64, 0.0)
+                };
+                // The f64 projection itself: a few f64 ulps of the centre and the radius.
+                let slack = (c.abs() + DVec3::splat(s.radius as f64)) * (8.0 * f64::EPSILON);
+                let (p, p_error) = rounded_with_error(exact, slack);
+                // From the f64 offset: `p - center` in f32 loses digits on huge spheres.
+                let n = if len > 0.0 {
+                    (d / len).as_vec3()
+                } else {
+                    Vec3::Y
+                };
                 let (u, v) = s.uv_at(p);
                 SurfacePoint {
                     p,
                     ng: n,
                     ns: n,
                     uv: Vec2::new(u, v),
-                    p_error: p.abs() * gamma(2),
+                    p_error,
                 }
             }
             Primitive::Triangle { mesh, tri } => {
                 let m = &self.meshes[mesh as usize];
                 let [p0, p1, p2] = m.corners(tri);
-                // Interpolating the corners is more accurate than o + t d far from the origin;
-                // its error bound is pbrt's for the barycentric sum.
-                let b0 = 1.0 - hit.u - hit.v;
-                let p = p0 * b0 + p1 * hit.u + p2 * hit.v;
-                let p_error =
-                    ((p0 * b0).abs() + (p1 * hit.u).abs() + (p2 * hit.v).abs()) * gamma(7);
+                // Interpolating the corners in f64 is far more accurate than o + t d: whatever
+                // the rounding of (u, v), the exact interpolation lies in the triangle's plane,
+                // so the point's error is its rounding to f32 plus the f64 evaluation's.
+                let (a, b, c) = (p0.as_dvec3(), p1.as_dvec3(), p2.as_dvec3());
+                let (u, v) = (hit.u as f64, hit.v as f64);
+                let (e1, e2) = (b - a, c - a);
+                let exact = a + e1 * u + e2 * v;
+                let slack = (a.abs() + (e1 * u).abs() + (e2 * v).abs()) * (8.0 * f64::EPSILON);
+                let (p, p_error) = rounded_with_error(exact, slack);
                 let ng = face_normal(p0, p1, p2).normalize_or(Vec3::Y);
                 let ns = m
                     .shading_normal(tri, hit.u, hit.v)
@@ -193,6 +234,16 @@ impl Geometry {
                     p_error,
                 }
             }
+        }
+    }
+}
+
+impl From<TriangleHit> for PrimHit {
+    fn from(h: TriangleHit) -> Self {
+        PrimHit {
+            t: h.t,
+            u: h.u,
+            v: h.v,
         }
     }
 }

@@ -63,6 +63,16 @@ impl Sphere {
         }
     }
 
+    /// TEMPORARY stand-in until the sphere precision variants land.
+    pub fn intersect_fast(&self, ray: &Ray) -> Option<f32> {
+        self.intersect(ray)
+    }
+
+    /// TEMPORARY stand-in until the sphere precision variants land.
+    pub fn intersect_double(&self, ray: &Ray) -> Option<f32> {
+        self.intersect(ray)
+    }
+
     /// The point of the surface nearest to `p` (computed in f64, then rounded).
     pub fn project(&self, p: Vec3) -> Vec3 {
         let c = self.center.as_dvec3();

@@ -11,6 +11,7 @@
 //! AOV off; the plane form in `f64` keeps them near 1e-7 (measured with tools/crosscheck_hits.py
 //! against a float64 reference).
 
+use super::conditioning::{Shear64, edge_error_bound, plane_distance};
 use crate::math::{Ray, Vec3};
 
 /// Per-ray constants of the shear transform, computed once per ray and reused for every
@@ -85,13 +86,27 @@ pub fn intersect_triangle(
     let mut e0 = cx * by - cy * bx;
     let mut e1 = ax * cy - ay * cx;
     let mut e2 = bx * ay - by * ax;
-    if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
-        let (ax, ay, bx, by, cx, cy) = (
-            ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64,
-        );
-        e0 = (cx * by - cy * bx) as f32;
-        e1 = (ax * cy - ay * cx) as f32;
-        e2 = (bx * ay - by * ax) as f32;
+    // An edge function within its rounding error of 0 (the ray passes near that edge, or
+    // grazes the plane) is re-evaluated from an f64 shear; the decision and the value depend
+    // only on the ray and the edge, so neighbours agree and the test stays watertight.
+    let mag = |v: Vec3| v[kx].abs() + v[ky].abs() + (wr.sx.abs() + wr.sy.abs()) * v[kz].abs();
+    let (ma, mb, mc) = (mag(a), mag(b), mag(c));
+    let refine = [
+        e0.abs() <= edge_error_bound(mb, mc),
+        e1.abs() <= edge_error_bound(mc, ma),
+        e2.abs() <= edge_error_bound(ma, mb),
+    ];
+    if refine.iter().any(|&r| r) {
+        let shear = Shear64::new(ray, [kx, ky, kz]);
+        if refine[0] {
+            e0 = shear.edge(p1, p2) as f32;
+        }
+        if refine[1] {
+            e1 = shear.edge(p2, p0) as f32;
+        }
+        if refine[2] {
+            e2 = shear.edge(p0, p1) as f32;
+        }
     }
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return None;
@@ -103,11 +118,11 @@ pub fn intersect_triangle(
     let inv_det = 1.0 / det;
     // No early range test on the sheared f32 distance: it can be off by 1e-2 at grazing angles,
     // and rejecting on it would make exact ties (duplicate triangles) depend on visit order.
-    let t = plane_distance_f64(ray, p0, p1, p2).unwrap_or_else(|| {
+    let t = plane_distance(ray, p0, p1, p2).unwrap_or_else(|| {
         let (az, bz, cz) = (wr.sz * a[kz], wr.sz * b[kz], wr.sz * c[kz]);
         (e0 * az + e1 * bz + e2 * cz) * inv_det
     });
-    if !(t > ray.t_min && t <= ray.t_max) {
+    if !in_range(t, ray) {
         return None;
     }
     Some(TriangleHit {
@@ -117,17 +132,80 @@ pub fn intersect_triangle(
     })
 }
 
-/// The ray parameter where `ray` meets the plane of `p0 p1 p2`, in `f64` and rounded once;
-/// `None` when the ray is parallel to the plane in `f64` too.
+/// `t` inside the ray's `(t_min, t_max]` and finite: a distance beyond `f32::MAX` rounds to
+/// infinity, which is no hit (a ray with `t_max = inf` would otherwise accept it).
+#[inline(always)]
+fn in_range(t: f32, ray: &Ray) -> bool {
+    t > ray.t_min && t <= ray.t_max && t < f32::INFINITY
+}
+
+/// `--precision fast`: the `f32` Moller-Trumbore test (JGT 1997) as most renderers ship it.
+/// Not watertight: its edge tests are evaluated per triangle with different rounding, so a ray
+/// through a shared edge can miss both neighbours, more often the farther the mesh lies from
+/// the origin (`o - p0` loses the low bits of the coordinates).
 #[inline]
-fn plane_distance_f64(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<f32> {
-    let (p0, p1, p2) = (p0.as_dvec3(), p1.as_dvec3(), p2.as_dvec3());
-    let n = (p1 - p0).cross(p2 - p0);
-    let den = n.dot(ray.dir.as_dvec3());
-    if den == 0.0 {
+pub fn intersect_triangle_fast(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
+    let (e1, e2) = (p1 - p0, p2 - p0);
+    let pvec = ray.dir.cross(e2);
+    let det = e1.dot(pvec);
+    if det == 0.0 {
         return None;
     }
-    Some((n.dot(p0 - ray.origin.as_dvec3()) / den) as f32)
+    let inv_det = 1.0 / det;
+    let s = ray.origin - p0;
+    let u = s.dot(pvec) * inv_det;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = ray.dir.dot(q) * inv_det;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(q) * inv_det;
+    in_range(t, ray).then_some(TriangleHit { t, u, v })
+}
+
+/// `--precision double`: the watertight test with every step (shear, edge functions,
+/// barycentrics, distance) in `f64`, rounded to `f32` once at the end.
+#[inline]
+pub fn intersect_triangle_double(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
+    let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+    let ad = d.abs();
+    let kz = if ad.x >= ad.y && ad.x >= ad.z {
+        0
+    } else if ad.y >= ad.z {
+        1
+    } else {
+        2
+    };
+    let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+    if d[kz] < 0.0 {
+        std::mem::swap(&mut kx, &mut ky);
+    }
+    let (sx, sy) = (d[kx] / d[kz], d[ky] / d[kz]);
+    let a = p0.as_dvec3() - o;
+    let b = p1.as_dvec3() - o;
+    let c = p2.as_dvec3() - o;
+    let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
+    let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
+    let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
+    let e0 = cx * by - cy * bx;
+    let e1 = ax * cy - ay * cx;
+    let e2 = bx * ay - by * ax;
+    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+        return None;
+    }
+    let det = e0 + e1 + e2;
+    if det == 0.0 {
+        return None;
+    }
+    let t = plane_distance(ray, p0, p1, p2)?;
+    in_range(t, ray).then(|| TriangleHit {
+        t,
+        u: (e1 / det) as f32,
+        v: (e2 / det) as f32,
+    })
 }
 
 /// Unnormalised geometric normal `(p1 - p0) x (p2 - p0)`: counter-clockwise faces point at the viewer.

@@ -19,6 +19,9 @@ pub struct RayCounts {
     pub reflection: u64,
     /// Refracted rays.
     pub refraction: u64,
+    /// Reflection and refraction branches not traced because their weight fell below the
+    /// cutoff (not rays: counted apart from the total).
+    pub cut: u64,
     /// Accelerator work for all of the above.
     pub traversal: TraversalStats,
 }
@@ -37,6 +40,7 @@ impl std::ops::AddAssign for RayCounts {
         self.shadow += o.shadow;
         self.reflection += o.reflection;
         self.refraction += o.refraction;
+        self.cut += o.cut;
         self.traversal += o.traversal;
     }
 }

@@ -4,7 +4,7 @@
 
 use super::RayCounts;
 use crate::accel::Accel;
-use crate::geometry::SurfacePoint;
+use crate::geometry::{Offset, SurfacePoint};
 use crate::material::{Material, fresnel_dielectric, reflect, refract};
 use crate::math::{Ray, Vec3};
 use crate::scene::{Effects, Interaction, Scene};
@@ -16,6 +16,8 @@ pub struct Whitted<'a> {
     effects: Effects,
     max_depth: u32,
     medium_ior: f32,
+    offset: Offset,
+    cutoff: f32,
 }
 
 /// Radiance along a camera ray, and whether it saw anything (for alpha).
@@ -37,6 +39,8 @@ impl<'a> Whitted<'a> {
             effects: scene.effects(),
             max_depth: st.max_depth,
             medium_ior: st.medium_ior,
+            offset: st.offset,
+            cutoff: st.cutoff,
         }
     }
 
@@ -50,7 +54,7 @@ impl<'a> Whitted<'a> {
         counts.camera += 1;
         match self.scene.intersect(self.accel, ray, &mut counts.traversal) {
             Some(hit) => CameraSample {
-                radiance: self.shade(ray, &hit, 0, counts),
+                radiance: self.shade(ray, &hit, 0, 1.0, counts),
                 opaque: true,
             },
             None => {
@@ -63,16 +67,32 @@ impl<'a> Whitted<'a> {
         }
     }
 
-    /// Radiance along a secondary ray at bounce `depth`.
-    fn trace(&self, ray: &Ray, depth: u32, counts: &mut RayCounts) -> Vec3 {
+    /// Radiance along a secondary ray at bounce `depth`, whose radiance enters the pixel
+    /// multiplied by `weight`.
+    fn trace(&self, ray: &Ray, depth: u32, weight: f32, counts: &mut RayCounts) -> Vec3 {
         match self.scene.intersect(self.accel, ray, &mut counts.traversal) {
-            Some(hit) => self.shade(ray, &hit, depth, counts),
+            Some(hit) => self.shade(ray, &hit, depth, weight, counts),
             None => self.scene.settings().background,
         }
     }
 
-    /// Radiance leaving `hit` back along `ray`.
-    fn shade(&self, ray: &Ray, hit: &Interaction, depth: u32, counts: &mut RayCounts) -> Vec3 {
+    /// True when a branch of this weight is worth tracing; counts the ones cut.
+    fn keep_branch(&self, weight: f32, counts: &mut RayCounts) -> bool {
+        let keep = weight >= self.cutoff;
+        counts.cut += u64::from(!keep);
+        keep
+    }
+
+    /// Radiance leaving `hit` back along `ray`; `weight` is the product of the reflection and
+    /// transmission factors that brought the camera ray here.
+    fn shade(
+        &self,
+        ray: &Ray,
+        hit: &Interaction,
+        depth: u32,
+        weight: f32,
+        counts: &mut RayCounts,
+    ) -> Vec3 {
         let m = self.scene.material_of(hit.object);
         let s = &hit.surface;
         let wo = -ray.dir.normalize();
@@ -99,17 +119,23 @@ impl<'a> Whitted<'a> {
             };
             let fresnel = fresnel_dielectric(-dir.dot(ns), eta);
             mirror_weight += m.transmission * fresnel;
-            if let Some(t) = refract(dir, ns, eta).filter(|_| fresnel < 1.0) {
+            let w = m.transmission * (1.0 - fresnel);
+            if let Some(t) = refract(dir, ns, eta).filter(|_| fresnel < 1.0)
+                && self.keep_branch(weight * w, counts)
+            {
                 counts.refraction += 1;
-                let r = Ray::new(s.spawn_origin(t), t);
-                l += m.transmission * (1.0 - fresnel) * self.trace(&r, depth + 1, counts);
+                let r = Ray::new(s.spawn_origin(t, self.offset), t);
+                l += w * self.trace(&r, depth + 1, weight * w, counts);
             }
         }
-        if self.effects.reflection && mirror_weight > 0.0 {
+        if self.effects.reflection
+            && mirror_weight > 0.0
+            && self.keep_branch(weight * mirror_weight, counts)
+        {
             counts.reflection += 1;
             let d = reflect(dir, ns);
-            let r = Ray::new(s.spawn_origin(d), d);
-            l += mirror_weight * self.trace(&r, depth + 1, counts);
+            let r = Ray::new(s.spawn_origin(d, self.offset), d);
+            l += mirror_weight * self.trace(&r, depth + 1, weight * mirror_weight, counts);
         }
         l
     }
@@ -134,7 +160,7 @@ impl<'a> Whitted<'a> {
             if cos <= 0.0 || ng.dot(ls.wi) <= 0.0 {
                 continue;
             }
-            let origin = s.spawn_origin(ls.wi);
+            let origin = s.spawn_origin(ls.wi, self.offset);
             // Stop just short of a point light so the light's own position never counts as a blocker.
             let t_max = if ls.distance.is_finite() {
                 ls.distance * (1.0 - 1e-4)

@@ -29,7 +29,7 @@ use std::path::Path;
 
 use crate::accel::{Accel, Hit, TraversalStats};
 use crate::camera::Camera;
-use crate::geometry::{Geometry, SurfacePoint, WatertightRay};
+use crate::geometry::{Geometry, Offset, Precision, SurfacePoint, WatertightRay};
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::{Ray, Vec3};
@@ -115,6 +115,13 @@ pub struct Settings {
     pub lens_samples: u32,
     /// Index of refraction of the space outside every object (the `.scn` "startingMaterial").
     pub medium_ior: f32,
+    /// How rays meet primitives (`precision`, `--precision`).
+    pub precision: Precision,
+    /// How secondary rays leave surfaces (`offset` and `epsilon`, `--offset`, `--epsilon`).
+    pub offset: Offset,
+    /// Reflection and refraction branches whose weight in the pixel falls below this are not
+    /// traced (`cutoff`, `--cutoff`); 0 traces every branch up to `max_depth`.
+    pub cutoff: f32,
 }
 
 impl Default for Settings {
@@ -129,6 +136,9 @@ impl Default for Settings {
             exposure: 0.0,
             lens_samples: 1,
             medium_ior: 1.0,
+            precision: Precision::default(),
+            offset: Offset::default(),
+            cutoff: 0.0,
         }
     }
 }
@@ -232,9 +242,16 @@ impl Scene {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> Option<Interaction> {
-        let wr = WatertightRay::new(ray.dir);
-        let Hit { prim, hit } =
-            accel.intersect(ray, stats, |p, r| self.geometry.intersect(p, r, &wr))?;
+        let g = &self.geometry;
+        // One traversal instantiation per precision, chosen once per ray.
+        let Hit { prim, hit } = match self.settings.precision {
+            Precision::Watertight => {
+                let wr = WatertightRay::new(ray.dir);
+                accel.intersect(ray, stats, |p, r| g.intersect(p, r, &wr))
+            }
+            Precision::Fast => accel.intersect(ray, stats, |p, r| g.intersect_fast(p, r)),
+            Precision::Double => accel.intersect(ray, stats, |p, r| g.intersect_double(p, r)),
+        }?;
         let mut hit_ray = *ray;
         hit_ray.t_max = hit.t;
         Some(Interaction {
@@ -247,10 +264,17 @@ impl Scene {
 
     /// True when something blocks `ray` within `(t_min, t_max]`.
     pub fn occluded(&self, accel: &Accel, ray: &Ray, stats: &mut TraversalStats) -> bool {
-        let wr = WatertightRay::new(ray.dir);
-        accel.occluded(ray, stats, |p, r| {
-            self.geometry.intersect(p, r, &wr).is_some()
-        })
+        let g = &self.geometry;
+        match self.settings.precision {
+            Precision::Watertight => {
+                let wr = WatertightRay::new(ray.dir);
+                accel.occluded(ray, stats, |p, r| g.intersect(p, r, &wr).is_some())
+            }
+            Precision::Fast => accel.occluded(ray, stats, |p, r| g.intersect_fast(p, r).is_some()),
+            Precision::Double => {
+                accel.occluded(ray, stats, |p, r| g.intersect_double(p, r).is_some())
+            }
+        }
     }
 
     /// Which ray kinds this scene can ever spawn; the integrator skips the rest.

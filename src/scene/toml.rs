@@ -141,6 +141,15 @@ impl Loader<'_> {
                 .background
                 .map_or(Ok(d.background), |c| self.color(e, "background", c))?,
             exposure: r.exposure.unwrap_or(d.exposure),
+            precision: match &r.precision {
+                Some(p) => p.parse().map_err(|m| self.err(e, m))?,
+                None => d.precision,
+            },
+            offset: self.offset(e, r)?,
+            cutoff: match r.cutoff {
+                Some(c) => crate::geometry::check_cutoff(c).map_err(|m| self.err(e, m))?,
+                None => d.cutoff,
+            },
             ..d
         };
         for (field, v) in [("width", settings.width), ("height", settings.height)] {
@@ -157,6 +166,24 @@ impl Loader<'_> {
         self.finite(e, "exposure", &[settings.exposure])?;
         *self.builder.settings_mut() = settings;
         Ok(())
+    }
+
+    /// `offset` and `epsilon`: an epsilon is only meaningful with `offset = "epsilon"`.
+    fn offset(&self, e: &str, r: &RenderDoc) -> Result<crate::geometry::Offset, SceneError> {
+        let epsilon = match r.epsilon {
+            Some(x) => crate::geometry::check_epsilon(x).map_err(|m| self.err(e, m))?,
+            None => crate::geometry::DEFAULT_EPSILON,
+        };
+        let offset = match &r.offset {
+            Some(name) => {
+                crate::geometry::Offset::from_name(name, epsilon).map_err(|m| self.err(e, m))?
+            }
+            None => crate::geometry::Offset::default(),
+        };
+        if r.epsilon.is_some() && !matches!(offset, crate::geometry::Offset::Epsilon(_)) {
+            return Err(self.err(e, "epsilon is given but offset is not \"epsilon\""));
+        }
+        Ok(offset)
     }
 
     fn material(&self, name: &str, m: &MaterialDoc) -> Result<Material, SceneError> {

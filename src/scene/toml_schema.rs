@@ -34,6 +34,10 @@ pub(super) struct RenderDoc {
     pub ambient: Option<[f32; 3]>,
     pub background: Option<[f32; 3]>,
     pub exposure: Option<f32>,
+    pub precision: Option<String>,
+    pub offset: Option<String>,
+    pub epsilon: Option<f32>,
+    pub cutoff: Option<f32>,
 }
 
 /// `[camera]`.

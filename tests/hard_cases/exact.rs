@@ -131,3 +131,15 @@ pub fn exact_to_f64(x: &Q) -> f64 {
     use num_traits::ToPrimitive;
     x.to_f64().unwrap_or(f64::NAN)
 }
+
+/// The exact parameter where the line `o + t d` meets the plane of `p` (`None` if parallel).
+pub fn plane_t(o: Vec3, d: Vec3, p: [Vec3; 3]) -> Option<Q> {
+    let (o, d) = (V::of(o), V::of(d));
+    let [p0, p1, p2] = p.map(V::of);
+    let n = p1.sub(&p0).cross(&p2.sub(&p0));
+    let den = n.dot(&d);
+    if den.is_zero() {
+        return None;
+    }
+    Some(n.dot(&p0.sub(&o)) / den)
+}

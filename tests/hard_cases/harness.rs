@@ -5,7 +5,7 @@
 
 use super::common::all_kinds;
 use lumis::accel::{Accel, AccelKind, BuildOptions, Hit, SegmentParams, Traversal, TraversalStats};
-use lumis::geometry::{Geometry, WatertightRay};
+use lumis::geometry::{Geometry, Precision, WatertightRay};
 use lumis::math::Ray;
 
 /// The traversals every hierarchy is walked with: ordered, the paper's exhaustive recursion, and
@@ -64,27 +64,41 @@ impl<'a> Everywhere<'a> {
 
     /// The brute-force nearest hit, after asserting every configuration returns it exactly.
     pub fn closest(&self, ray: &Ray) -> Option<Hit> {
+        self.closest_with(Precision::default(), ray)
+    }
+
+    /// [`Everywhere::closest`] with the primitive tests of `precision`.
+    pub fn closest_with(&self, precision: Precision, ray: &Ray) -> Option<Hit> {
         let wr = WatertightRay::new(ray.dir);
         let g = self.geometry;
         let query = |a: &Accel| {
             a.intersect(ray, &mut TraversalStats::default(), |p, r| {
-                g.intersect(p, r, &wr)
+                g.intersect_with(precision, p, r, &wr)
             })
         };
         let reference = query(&self.brute);
         for (name, a) in &self.configs {
-            assert_eq!(query(a), reference, "{name} differs from brute force on {ray:?}");
+            assert_eq!(
+                query(a),
+                reference,
+                "{name} differs from brute force on {ray:?}"
+            );
         }
         reference
     }
 
     /// Whether anything blocks the ray, after asserting every configuration agrees.
     pub fn occluded(&self, ray: &Ray) -> bool {
+        self.occluded_with(Precision::default(), ray)
+    }
+
+    /// [`Everywhere::occluded`] with the primitive tests of `precision`.
+    pub fn occluded_with(&self, precision: Precision, ray: &Ray) -> bool {
         let wr = WatertightRay::new(ray.dir);
         let g = self.geometry;
         let query = |a: &Accel| {
             a.occluded(ray, &mut TraversalStats::default(), |p, r| {
-                g.intersect(p, r, &wr).is_some()
+                g.intersect_with(precision, p, r, &wr).is_some()
             })
         };
         let reference = query(&self.brute);

@@ -11,4 +11,7 @@ mod common;
 mod exact;
 mod harness;
 
+mod directions;
+mod offsets;
 mod shading;
+mod triangles;

@@ -1,0 +1,126 @@
+//! Re-evaluation of the watertight triangle test's ill-conditioned quantities: an edge function
+//! whose `f32` value lies within its rounding error of 0 (a ray through or near an edge, or a
+//! ray grazing the plane, which makes every edge function tiny), and a plane distance whose
+//! denominator cancels (a grazing ray).
+//!
+//! Watertightness is kept: whether an edge function is re-evaluated, and its new value, depend
+//! only on the ray and the edge's two vertices, so both triangles sharing the edge make the same
+//! choice and get the same value (negated), exactly as the `f32` values are shared.
+
+use crate::math::{Ray, Vec3, gamma};
+use glam::DVec3;
+
+/// The ray's shear in `f64`, for re-evaluating edge functions.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Shear64 {
+    origin: DVec3,
+    k: [usize; 3],
+    s: [f64; 2],
+}
+
+impl Shear64 {
+    /// The shear of `ray` for the axis permutation `k = [kx, ky, kz]` of its `f32` shear.
+    pub(crate) fn new(ray: &Ray, k: [usize; 3]) -> Self {
+        let d = ray.dir.as_dvec3();
+        Self {
+            origin: ray.origin.as_dvec3(),
+            k,
+            s: [d[k[0]] / d[k[2]], d[k[1]] / d[k[2]]],
+        }
+    }
+
+    /// The sheared 2-D position of a vertex.
+    fn project(&self, p: Vec3) -> (f64, f64) {
+        let v = p.as_dvec3() - self.origin;
+        let [kx, ky, kz] = self.k;
+        (v[kx] - self.s[0] * v[kz], v[ky] - self.s[1] * v[kz])
+    }
+
+    /// The edge function of the directed edge `p -> q` (`qx * py - qy * px`), in `f64`.
+    pub(crate) fn edge(&self, p: Vec3, q: Vec3) -> f64 {
+        let (px, py) = self.project(p);
+        let (qx, qy) = self.project(q);
+        qx * py - qy * px
+    }
+}
+
+/// A bound on the rounding error of an `f32` edge function of two sheared vertices, from their
+/// magnitudes `m = |v[kx]| + |v[ky]| + (|sx| + |sy|) |v[kz]|` (each computed from `v - o`).
+#[inline(always)]
+pub(crate) fn edge_error_bound(m_p: f32, m_q: f32) -> f32 {
+    gamma(8) * m_p * m_q
+}
+
+/// `a * b` as an exact sum `hi + lo`.
+#[inline(always)]
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
+}
+
+/// `a + b` as an exact sum `hi + lo` (Knuth).
+#[inline(always)]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// A compensated dot product (Ogita, Rump, Oishi 2005, Dot2): as accurate as if computed in
+/// twice the precision, then rounded; `x` is given as an unevaluated sum `hi + lo` per component.
+fn dot2(x_hi: DVec3, x_lo: DVec3, y: DVec3) -> f64 {
+    let (mut s, mut c) = (0.0, 0.0);
+    for i in 0..3 {
+        let (p, e) = two_prod(x_hi[i], y[i]);
+        let (t, f) = two_sum(s, p);
+        s = t;
+        c += f + e + x_lo[i] * y[i];
+    }
+    s + c
+}
+
+/// The triangle's normal `(p1 - p0) x (p2 - p0)` as an unevaluated sum `hi + lo`, accurate to
+/// `f64` precision squared (the differences of `f32` coordinates are exact in `f64`).
+fn normal_dd(p0: DVec3, p1: DVec3, p2: DVec3) -> (DVec3, DVec3) {
+    let (a, b) = (p1 - p0, p2 - p0);
+    let comp = |i: usize, j: usize| {
+        let (x, ex) = two_prod(a[i], b[j]);
+        let (y, ey) = two_prod(a[j], b[i]);
+        let (s, es) = two_sum(x, -y);
+        two_sum(s, es + ex - ey)
+    };
+    let (x, y, z) = (comp(1, 2), comp(2, 0), comp(0, 1));
+    (DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1))
+}
+
+/// The ray parameter where `ray` meets the plane of `p0 p1 p2`, rounded once to `f32`; `None`
+/// when the ray is parallel to the plane. Plain `f64` when the denominator is well conditioned;
+/// compensated when it cancels (grazing rays: at 1e-12 rad plain `f64` keeps only 4 digits).
+pub(crate) fn plane_distance(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<f32> {
+    let (a, b, c) = (p0.as_dvec3(), p1.as_dvec3(), p2.as_dvec3());
+    let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+    let n = (b - a).cross(c - a);
+    let den = n.dot(d);
+    let num = n.dot(a - o);
+    // The relative error of the f64 denominator is ~4 eps |n| |d| / |den|.
+    let scale = n.abs().dot(d.abs());
+    if den.abs() > scale * 2f64.powi(-26) && num.abs() > n.abs().dot((a - o).abs()) * 2f64.powi(-26)
+    {
+        return (den != 0.0).then(|| (num / den) as f32);
+    }
+    let (n_hi, n_lo) = normal_dd(a, b, c);
+    let den = dot2(n_hi, n_lo, d);
+    if den == 0.0 {
+        return None;
+    }
+    // `a - o` is exact in f64 for f32 inputs of similar magnitude; two_sum keeps it exact always.
+    let mut dir_hi = DVec3::ZERO;
+    let mut dir_lo = DVec3::ZERO;
+    for i in 0..3 {
+        let (h, l) = two_sum(a[i], -o[i]);
+        dir_hi[i] = h;
+        dir_lo[i] = l;
+    }
+    let num = dot2(n_hi, n_lo, dir_hi) + dot2(n_hi, n_lo, dir_lo);
+    Some((num / den) as f32)
+}
