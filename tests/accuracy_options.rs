@@ -67,10 +67,11 @@ fn toml_render_keys_set_the_accuracy_settings() {
     assert_eq!(st.precision, Precision::Double);
     assert_eq!(st.offset, Offset::Epsilon(0.001));
     assert_eq!(st.cutoff, 0.2);
-    let defaults = load(&FAR_SCENE.replace("precision = \"double\"\n", "").replace(
-        "offset = \"epsilon\"\nepsilon = 0.001\ncutoff = 0.2\n",
-        "",
-    ));
+    let defaults = load(
+        &FAR_SCENE
+            .replace("precision = \"double\"\n", "")
+            .replace("offset = \"epsilon\"\nepsilon = 0.001\ncutoff = 0.2\n", ""),
+    );
     let st = defaults.settings();
     assert_eq!(
         (st.precision, st.offset, st.cutoff),
@@ -81,17 +82,29 @@ fn toml_render_keys_set_the_accuracy_settings() {
 #[test]
 fn bad_accuracy_keys_are_errors_naming_the_render_table() {
     for (from, to, what) in [
-        ("precision = \"double\"", "precision = \"quad\"", "unknown precision"),
-        ("offset = \"epsilon\"", "offset = \"bump\"", "unknown offset"),
+        (
+            "precision = \"double\"",
+            "precision = \"quad\"",
+            "unknown precision",
+        ),
+        (
+            "offset = \"epsilon\"",
+            "offset = \"bump\"",
+            "unknown offset",
+        ),
         ("epsilon = 0.001", "epsilon = -1.0", "epsilon"),
         ("cutoff = 0.2", "cutoff = 1.5", "cutoff"),
-        ("offset = \"epsilon\"", "offset = \"ulp\"", "epsilon is given"),
+        (
+            "offset = \"epsilon\"",
+            "offset = \"ulp\"",
+            "epsilon is given",
+        ),
     ] {
         let err = load_toml_str(&FAR_SCENE.replace(from, to), Path::new("far.toml"), &|p| {
             std::fs::read(p)
         })
-            .expect_err(to)
-            .to_string();
+        .expect_err(to)
+        .to_string();
         assert!(err.contains("far.toml") && err.contains("render"), "{err}");
         assert!(err.contains(what), "{to}: {err}");
     }
@@ -161,20 +174,37 @@ fn render_and_hits_take_the_flags_and_reject_bad_ones() {
     let base = ["render", "far.toml", "-o", "a.png", "--quiet"];
     let ok = |extra: &[&str]| {
         let out = lumis(dir.path(), &[&base[..], extra].concat());
-        assert!(out.status.success(), "{extra:?}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
     };
     ok(&["--precision", "fast", "--offset", "ulp", "--cutoff", "0"]);
-    ok(&["--precision", "double", "--offset", "epsilon", "--epsilon", "1e-3"]);
+    ok(&[
+        "--precision",
+        "double",
+        "--offset",
+        "epsilon",
+        "--epsilon",
+        "1e-3",
+    ]);
     ok(&["--offset", "error-bound", "--cutoff", "0.05"]);
     for (extra, msg) in [
-        (&["--offset", "ulp", "--epsilon", "1e-3"][..], "--epsilon needs --offset epsilon"),
+        (
+            &["--offset", "ulp", "--epsilon", "1e-3"][..],
+            "--epsilon needs --offset epsilon",
+        ),
         (&["--offset", "epsilon", "--epsilon", "0"][..], "--epsilon"),
         (&["--cutoff", "2"][..], "--cutoff"),
         (&["--precision", "quad"][..], "quad"),
     ] {
         let out = lumis(dir.path(), &[&base[..], extra].concat());
         let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success() && err.contains(msg), "{extra:?}: {err}");
+        assert!(
+            !out.status.success() && err.contains(msg),
+            "{extra:?}: {err}"
+        );
     }
     // hits: the same flags, and the spawn origins file.
     let rays: Vec<f32> = [1e6f32, 5.0, 1e6 + 3.0, 0.0, -1.0, 0.0, 0.0, f32::INFINITY].to_vec();
@@ -194,14 +224,33 @@ fn render_and_hits_take_the_flags_and_reject_bad_ones() {
     let out = lumis(
         dir.path(),
         &[
-            "hits", "far.toml", "--rays", "rays.npy", "--out", "h.npy", "--precision", "fast",
-            "--offset", "epsilon", "--epsilon", "0.01", "--spawn-out", "s.npy",
+            "hits",
+            "far.toml",
+            "--rays",
+            "rays.npy",
+            "--out",
+            "h.npy",
+            "--precision",
+            "fast",
+            "--offset",
+            "epsilon",
+            "--epsilon",
+            "0.01",
+            "--spawn-out",
+            "s.npy",
         ],
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let s = std::fs::read(dir.path().join("s.npy")).unwrap();
     let npy = npyz::NpyFile::new(&s[..]).unwrap();
     assert_eq!(npy.shape(), &[1, 6]);
     let v: Vec<f32> = npy.into_vec().unwrap();
-    assert!((v[1] - 0.01).abs() < 1e-6 && (v[4] + 0.01).abs() < 1e-6, "{v:?}");
+    assert!(
+        (v[1] - 0.01).abs() < 1e-6 && (v[4] + 0.01).abs() < 1e-6,
+        "{v:?}"
+    );
 }

@@ -12,6 +12,7 @@ mod exact;
 mod harness;
 
 mod directions;
+mod glass;
 mod offsets;
 mod shading;
 mod triangles;
