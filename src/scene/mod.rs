@@ -13,6 +13,7 @@ mod mtl;
 mod obj;
 mod obj_scan;
 mod scn;
+mod settings;
 mod toml;
 mod toml_schema;
 
@@ -23,16 +24,17 @@ pub use gltf::{GltfOptions, load_gltf_bytes, load_gltf_file};
 pub use mesh_m::{MeshMError, load_m_file, parse_m};
 pub use obj::{ObjModel, ObjObject, load_obj, load_obj_merged, load_obj_meshes};
 pub use scn::{ScnError, load_scn_file, parse_scn};
+pub use settings::Settings;
 pub use toml::{Resolver, load_toml_file, load_toml_str};
 
 use std::path::Path;
 
 use crate::accel::{Accel, Hit, TraversalStats};
 use crate::camera::Camera;
-use crate::geometry::{Geometry, Offset, Precision, SurfacePoint, WatertightRay};
+use crate::geometry::{Geometry, Precision, SurfacePoint, WatertightRay};
 use crate::light::Light;
 use crate::material::Material;
-use crate::math::{Ray, Vec3};
+use crate::math::Ray;
 
 /// Loads a scene file, choosing the format by extension: `.toml` is a scene description,
 /// `.scn` the paper's format, `.obj` a bare model shown with an automatic camera, a default
@@ -92,55 +94,6 @@ fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {
     }
     let (w, h) = (b.settings_mut().width, b.settings_mut().height);
     Ok(b.build(framing_camera(bounds, w, h)))
-}
-
-/// Render settings a scene file may give; CLI flags override them.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Settings {
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// Samples per pixel along each axis: `spp x spp` stratified samples.
-    pub spp: u32,
-    /// Longest chain of reflection/refraction bounces after the camera ray.
-    pub max_depth: u32,
-    /// Ambient radiance added as `ambient * kd` at every hit.
-    pub ambient: Vec3,
-    /// Radiance of rays that escape (counted as emitted: alpha 1 when non-black).
-    pub background: Vec3,
-    /// Exposure in stops applied to the PNG preview.
-    pub exposure: f32,
-    /// Lens samples per pixel sample (the `.scn` "depthComplexity"); used only with depth of field.
-    pub lens_samples: u32,
-    /// Index of refraction of the space outside every object (the `.scn` "startingMaterial").
-    pub medium_ior: f32,
-    /// How rays meet primitives (`precision`, `--precision`).
-    pub precision: Precision,
-    /// How secondary rays leave surfaces (`offset` and `epsilon`, `--offset`, `--epsilon`).
-    pub offset: Offset,
-    /// Reflection and refraction branches whose weight in the pixel falls below this are not
-    /// traced (`cutoff`, `--cutoff`); 0 traces every branch up to `max_depth`.
-    pub cutoff: f32,
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Self {
-            width: 640,
-            height: 360,
-            spp: 2,
-            max_depth: 5,
-            ambient: Vec3::splat(0.05),
-            background: Vec3::ZERO,
-            exposure: 0.0,
-            lens_samples: 1,
-            medium_ior: 1.0,
-            precision: Precision::default(),
-            offset: Offset::default(),
-            cutoff: 0.0,
-        }
-    }
 }
 
 /// A named thing in the scene (a sphere or a mesh) with one material.
