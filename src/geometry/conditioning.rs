@@ -45,7 +45,9 @@ impl Shear64 {
 }
 
 /// A bound on the rounding error of an `f32` edge function of two sheared vertices, from their
-/// magnitudes `m = |v[kx]| + |v[ky]| + (|sx| + |sy|) |v[kz]|` (each computed from `v - o`).
+/// magnitudes `m = |v[kx]| + |v[ky]| + (|sx| + |sy|) |v[kz]|` (each computed from `v - o`):
+/// each sheared coordinate carries ~3 roundings of `m`, the products and difference 2 more.
+/// The test folds the factor into per-ray weights, so only the products remain per triangle.
 #[inline(always)]
 pub(crate) fn edge_error_bound(m_p: f32, m_q: f32) -> f32 {
     gamma(8) * m_p * m_q

@@ -12,7 +12,7 @@
 //! against a float64 reference).
 
 use super::conditioning::{Shear64, edge_error_bound, plane_distance};
-use crate::math::{Ray, Vec3};
+use crate::math::{Ray, Vec3, Vec3A};
 
 /// Per-ray constants of the shear transform, computed once per ray and reused for every
 /// triangle it is tested against.
@@ -24,10 +24,14 @@ pub struct WatertightRay {
     sx: f32,
     sy: f32,
     sz: f32,
+    /// Weights of `|v|` (world axes) whose dot product is a vertex's sheared magnitude, scaled
+    /// so the product of two is the edge function's error bound (see `edge_error_bound`).
+    err_w: Vec3A,
 }
 
 impl WatertightRay {
     /// Precomputes the shear for `dir` (must be non-zero).
+    #[inline]
     pub fn new(dir: Vec3) -> Self {
         let a = dir.abs();
         let kz = if a.x >= a.y && a.x >= a.z {
@@ -42,13 +46,17 @@ impl WatertightRay {
         if dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
+        let (sx, sy) = (dir[kx] / dir[kz], dir[ky] / dir[kz]);
+        let mut err_w = Vec3::ONE;
+        err_w[kz] = sx.abs() + sy.abs();
         Self {
             kx,
             ky,
             kz,
-            sx: dir[kx] / dir[kz],
-            sy: dir[ky] / dir[kz],
+            sx,
+            sy,
             sz: 1.0 / dir[kz],
+            err_w: Vec3A::from(err_w * edge_error_bound(1.0, 1.0).sqrt()),
         }
     }
 }
@@ -89,12 +97,13 @@ pub fn intersect_triangle(
     // An edge function within its rounding error of 0 (the ray passes near that edge, or
     // grazes the plane) is re-evaluated from an f64 shear; the decision and the value depend
     // only on the ray and the edge, so neighbours agree and the test stays watertight.
-    let mag = |v: Vec3| v[kx].abs() + v[ky].abs() + (wr.sx.abs() + wr.sy.abs()) * v[kz].abs();
-    let (ma, mb, mc) = (mag(a), mag(b), mag(c));
+    // Each vertex's sheared magnitude, pre-scaled so a product of two is the edge's bound.
+    let m = |v: Vec3| Vec3A::from(v).abs().dot(wr.err_w);
+    let (ma, mb, mc) = (m(a), m(b), m(c));
     let refine = [
-        e0.abs() <= edge_error_bound(mb, mc),
-        e1.abs() <= edge_error_bound(mc, ma),
-        e2.abs() <= edge_error_bound(ma, mb),
+        e0.abs() <= mb * mc,
+        e1.abs() <= mc * ma,
+        e2.abs() <= ma * mb,
     ];
     if refine.iter().any(|&r| r) {
         let shear = Shear64::new(ray, [kx, ky, kz]);
