@@ -3,11 +3,13 @@
 //! [`Geometry`] owns the shapes and a flat list of [`Primitive`]s; accelerators refer to
 //! primitives by their index in that list and see only their bounding boxes.
 
+mod exact;
 mod mesh;
 mod polygon;
 mod sphere;
 mod triangle;
 
+pub use exact::{cross_sign, orient2d, triangle_area_is_zero};
 pub use mesh::{Mesh, MeshError};
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
 pub use sphere::Sphere;
