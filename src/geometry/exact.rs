@@ -133,7 +133,10 @@ mod tests {
         let x = 1.0 + f64::EPSILON;
         let (p, e) = two_product(x, x);
         // (1 + u)^2 = 1 + 2u + u^2: the u^2 term is exactly the error.
-        assert_eq!((p, e), (1.0 + 2.0 * f64::EPSILON, f64::EPSILON * f64::EPSILON));
+        assert_eq!(
+            (p, e),
+            (1.0 + 2.0 * f64::EPSILON, f64::EPSILON * f64::EPSILON)
+        );
         let mut acc = Vec::new();
         for b in [1e300, 1.0, -1e300, 1e-300, -1.0] {
             grow(&mut acc, b);
@@ -157,7 +160,10 @@ mod tests {
         }
         // Differences that are not exact in f64: 2^100 + 1 - 2^100 cancels in rounding.
         let big = 2f64.powi(100);
-        assert_eq!(orient2d([big, 0.0], [big, 1.0], [1.0, 0.0]), Ordering::Greater);
+        assert_eq!(
+            orient2d([big, 0.0], [big, 1.0], [1.0, 0.0]),
+            Ordering::Greater
+        );
         assert_eq!(
             orient2d([1e-30, 0.0], [big, 1e-30], [-big, -1e-30]),
             Ordering::Greater
@@ -204,16 +210,24 @@ mod tests {
         // Small integers: the f64 cross product is exact, so its signs are the truth.
         let mut seed = 7u64;
         let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 40) % 9) as f32 - 4.0
         };
         for _ in 0..2000 {
             let p = [0; 3].map(|_| Vec3::new(next(), next(), next()));
             let n = (p[1] - p[0]).as_dvec3().cross((p[2] - p[0]).as_dvec3());
             for k in 0..3 {
-                assert_eq!(cross_sign(p[0], p[1], p[2], k), n[k].partial_cmp(&0.0).unwrap());
+                assert_eq!(
+                    cross_sign(p[0], p[1], p[2], k),
+                    n[k].partial_cmp(&0.0).unwrap()
+                );
             }
-            assert_eq!(triangle_area_is_zero(p[0], p[1], p[2]), n == glam::DVec3::ZERO);
+            assert_eq!(
+                triangle_area_is_zero(p[0], p[1], p[2]),
+                n == glam::DVec3::ZERO
+            );
         }
     }
 }

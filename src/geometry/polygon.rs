@@ -13,19 +13,18 @@
 //! ears are clipped in that plane, concave polygons come out right and every triangle keeps the
 //! polygon's winding (its normal agrees with the Newell normal).
 
-use std::cmp::Ordering::{Greater, Less};
+use std::cmp::Ordering::Greater;
+
+mod ears;
 
 use super::exact::{orient2d, triangle_area_is_zero};
 use crate::math::Vec3;
+use ears::clip_ears;
 use glam::DVec3;
 
 /// Above this many vertices a polygon that is not fan-shaped is fanned instead of ear-clipped:
 /// ear clipping here costs `O(n^2)` exact tests, and hostile files must not stall the loader.
 const MAX_EAR_CLIP_VERTICES: usize = 4096;
-
-/// How often stale ear flags may be recomputed before a polygon is declared not simple (see
-/// [`clip_ears`]); bounded so the total stays `O(n^2)`.
-const MAX_RESCANS: usize = 4;
 
 /// How a polygon was split into triangles; indices are positions in the input slice.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -124,149 +123,15 @@ fn fan_or_degenerate(points: &[Vec3], idx: &[usize]) -> Triangulation {
 }
 
 /// The fan triangles of nonzero exact area around `idx[0]`.
-fn fan(points: &[Vec3], idx: &[usize]) -> Vec<[usize; 3]> {
+pub(super) fn fan(points: &[Vec3], idx: &[usize]) -> Vec<[usize; 3]> {
     (1..idx.len().saturating_sub(1))
         .map(|j| [idx[0], idx[j], idx[j + 1]])
         .filter(|t| !zero_area(points, *t))
         .collect()
 }
 
-fn zero_area(points: &[Vec3], [a, b, c]: [usize; 3]) -> bool {
+pub(super) fn zero_area(points: &[Vec3], [a, b, c]: [usize; 3]) -> bool {
     triangle_area_is_zero(points[a], points[b], points[c])
-}
-
-/// The remaining polygon of an ear clipper: a doubly linked cycle over the input vertices.
-struct Ring<'a> {
-    points: &'a [Vec3],
-    p: &'a [[f64; 2]],
-    prev: Vec<usize>,
-    next: Vec<usize>,
-    /// Strictly counter-clockwise turn at the vertex, with its current neighbours.
-    convex: Vec<bool>,
-    /// Whether the vertex may be clipped now (see [`Ring::is_ear`]).
-    ear: Vec<bool>,
-}
-
-impl Ring<'_> {
-    fn triangle(&self, b: usize) -> [usize; 3] {
-        [self.prev[b], b, self.next[b]]
-    }
-
-    fn update_convex(&mut self, b: usize) {
-        let [a, _, c] = self.triangle(b);
-        self.convex[b] = orient2d(self.p[a], self.p[b], self.p[c]) == Greater;
-    }
-
-    /// A vertex may be clipped when its triangle has exactly zero area (clipping it then
-    /// removes no area, so no triangle is emitted), or when it turns strictly left and no
-    /// vertex that does not lies inside or on its triangle. Only such (reflex or straight)
-    /// vertices need testing: in a simple polygon, a triangle that holds any vertex holds a
-    /// reflex one. Vertices repeated at a corner's spot (bridges to holes) do not count.
-    fn is_ear(&self, b: usize) -> bool {
-        let [a, _, c] = self.triangle(b);
-        if zero_area(self.points, [a, b, c]) {
-            return true;
-        }
-        if !self.convex[b] {
-            return false;
-        }
-        let (pa, pb, pc) = (self.p[a], self.p[b], self.p[c]);
-        let mut v = self.next[c];
-        while v != a {
-            let q = self.p[v];
-            if !self.convex[v]
-                && q != pa
-                && q != pb
-                && q != pc
-                && orient2d(pa, pb, q) != Less
-                && orient2d(pb, pc, q) != Less
-                && orient2d(pc, pa, q) != Less
-            {
-                return false;
-            }
-            v = self.next[v];
-        }
-        true
-    }
-
-    /// The remaining vertices in order, starting at `start`.
-    fn walk(&self, start: usize) -> Vec<usize> {
-        let mut out = vec![start];
-        let mut v = self.next[start];
-        while v != start {
-            out.push(v);
-            v = self.next[v];
-        }
-        out
-    }
-}
-
-/// Ear clipping of a counter-clockwise 2-D polygon (`p`, the projection of `points`), in
-/// `O(n^2)`: each vertex's ear flag is computed once and then only for the two neighbours of
-/// a clipped vertex, the only ones whose triangle changes (clipping a convex ear tip cannot
-/// unblock anyone else, by the reflex-vertex argument of [`Ring::is_ear`]). Clipping a
-/// straight vertex can, so when no ear is flagged the flags are recomputed, at most
-/// [`MAX_RESCANS`] times, before the rest is fanned as not simple.
-fn clip_ears(points: &[Vec3], p: &[[f64; 2]]) -> Triangulation {
-    let n = p.len();
-    let mut ring = Ring {
-        points,
-        p,
-        prev: (0..n).map(|i| (i + n - 1) % n).collect(),
-        next: (0..n).map(|i| (i + 1) % n).collect(),
-        convex: vec![false; n],
-        ear: vec![false; n],
-    };
-    (0..n).for_each(|b| ring.update_convex(b));
-    ring.ear = (0..n).map(|b| ring.is_ear(b)).collect();
-    let mut tris = Vec::with_capacity(n - 2);
-    let (mut left, mut cursor, mut rescans, mut stale) = (n, 0, 0, false);
-    while left > 3 {
-        // Search from the last clip's neighbour, so ears come out in order around the polygon.
-        let (mut b, mut found) = (cursor, false);
-        for _ in 0..left {
-            if ring.ear[b] {
-                found = true;
-                break;
-            }
-            b = ring.next[b];
-        }
-        if !found {
-            if stale && rescans < MAX_RESCANS {
-                (rescans, stale) = (rescans + 1, false);
-                for v in ring.walk(cursor) {
-                    ring.ear[v] = ring.is_ear(v);
-                }
-                continue;
-            }
-            // Not a simple polygon: no ear exists. Fan the rest rather than fail.
-            tris.extend(fan(points, &ring.walk(cursor)));
-            return Triangulation::Fan(tris);
-        }
-        let [a, _, c] = ring.triangle(b);
-        if !zero_area(points, [a, b, c]) {
-            tris.push([a, b, c]);
-        }
-        stale |= !ring.convex[b];
-        (ring.next[a], ring.prev[c]) = (c, a);
-        left -= 1;
-        for v in [a, c] {
-            ring.update_convex(v);
-        }
-        for v in [a, c] {
-            ring.ear[v] = ring.is_ear(v);
-        }
-        cursor = a;
-    }
-    let last = ring.triangle(ring.next[cursor]);
-    if !zero_area(points, last) {
-        tris.push(last);
-    }
-    if tris.is_empty() {
-        Triangulation::Degenerate
-    } else {
-        Triangulation::Ears(tris)
-    }
 }
 
 #[cfg(test)]
@@ -392,12 +257,23 @@ mod tests {
         let v = Vec3::new;
         // The external report's 1000 x 0.001 sliver, and the same far from the origin.
         let sliver = [v(0., 0., 0.), v(1000., 0., 0.), v(1000., 0.001, 0.)];
-        assert_eq!(triangulate_polygon(&sliver), Triangulation::Ears(vec![[0, 1, 2]]));
+        assert_eq!(
+            triangulate_polygon(&sliver),
+            Triangulation::Ears(vec![[0, 1, 2]])
+        );
         let o = v(148376.0, 1235.0, -223423.0);
         let far = [o, o + v(0.05, 0., 0.), o + v(0., 0.05, 0.)];
-        assert_eq!(triangulate_polygon(&far), Triangulation::Ears(vec![[0, 1, 2]]));
+        assert_eq!(
+            triangulate_polygon(&far),
+            Triangulation::Ears(vec![[0, 1, 2]])
+        );
         // A quad sliver far away: both triangles survive.
-        let quad = [o, o + v(1000., 0., 0.), o + v(1000., 0.02, 0.), o + v(0., 0.02, 0.)];
+        let quad = [
+            o,
+            o + v(1000., 0., 0.),
+            o + v(1000., 0.02, 0.),
+            o + v(0., 0.02, 0.),
+        ];
         let tris = tris_of(triangulate_polygon(&quad));
         assert_eq!(tris.len(), 2);
     }
@@ -406,7 +282,9 @@ mod tests {
     fn only_exactly_zero_area_pieces_are_dropped() {
         // Exactly collinear corners, however long, far or many: nothing to keep.
         let o = Vec3::new(1e7, -2e6, 3e5);
-        let line: Vec<Vec3> = (0..6).map(|i| o + Vec3::new(2.0, 4.0, 8.0) * i as f32).collect();
+        let line: Vec<Vec3> = (0..6)
+            .map(|i| o + Vec3::new(2.0, 4.0, 8.0) * i as f32)
+            .collect();
         assert_eq!(triangulate_polygon(&line), Triangulation::Degenerate);
         assert_eq!(triangulate_polygon(&line[..3]), Triangulation::Degenerate);
         // A spike (out and back along one line) glued to a square: only the square's area.
@@ -423,7 +301,11 @@ mod tests {
         let n = 5000;
         let ring = |r: f32, k: usize| {
             let a = k as f64 * std::f64::consts::TAU / n as f64;
-            Vec3::new((r as f64 * a.cos()) as f32, (r as f64 * a.sin()) as f32, 0.0)
+            Vec3::new(
+                (r as f64 * a.cos()) as f32,
+                (r as f64 * a.sin()) as f32,
+                0.0,
+            )
         };
         let convex: Vec<Vec3> = (0..n).map(|k| ring(1.0, k)).collect();
         let tris = tris_of(triangulate_polygon(&convex));
