@@ -210,7 +210,9 @@ fn triangulate(m: &tobj::Mesh, lines: Option<&[usize]>) -> (Vec<[u32; 3]>, Vec<S
                 t
             }
             Triangulation::Degenerate => {
-                notes.push(format!("{at}: polygon has exactly zero area (collinear or repeated points); skipped"));
+                notes.push(format!(
+                    "{at}: polygon has exactly zero area (collinear or repeated points); skipped"
+                ));
                 continue;
             }
         };

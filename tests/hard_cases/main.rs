@@ -11,4 +11,5 @@ mod common;
 mod exact;
 mod harness;
 
+mod polygons;
 mod shading;
