@@ -126,10 +126,17 @@ fn assert_covers(points: &[Vec3], tris: &[[Vec3; 3]], what: &str) {
     }
 }
 
-/// The f32 spacing above every coordinate of magnitude below `2 * m`: multiples of it near `m`
-/// are exact f32s.
-fn spacing(m: f64) -> f64 {
-    2f64.powi(m.log2().floor() as i32 + 1 - 23)
+/// The f32 spacing in the binade of `m`: multiples of it there are exact f32s.
+fn ulp(m: f64) -> f64 {
+    2f64.powi(m.abs().log2().floor() as i32 - 23)
+}
+
+/// The odd multiple of `ulp(c)` nearest `c`: sums of two such coordinates are not f32s, so
+/// lumis's old f32 arithmetic on absolute coordinates rounded there.
+fn odd(c: f64) -> f64 {
+    let u = ulp(c);
+    let k = (c / u).round();
+    (if k % 2.0 == 0.0 { k + 1.0 } else { k }) * u
 }
 
 #[test]
@@ -151,36 +158,36 @@ fn issue_sliver_1000_by_0_001_is_kept_and_hit_at_t_1() {
 
 #[test]
 fn far_triangle_of_area_1e_3_is_kept_and_hit_inside() {
+    // The report's size of triangle, and one 50 long and one f32 spacing (1.2e-4) high that
+    // the old f32 Newell test called zero area.
     let text = "v 148376 1235 -223423\nv 148376.05 1235.02 -223423\n\
-                v 148376 1235.05 -223422.98\nf 1 2 3\n";
+                v 148376 1235.05 -223422.98\nf 1 2 3\n\
+                v 148376 1235 -223423\nv 148425 1235 -223398.5\n\
+                v 148400.5 1235.0001 -223410.75\nf 4 5 6\n";
     let model = load(text, "far.obj");
     let g = geometry(&model);
     let tris = triangles(&g);
-    assert_eq!(tris.len(), 1, "{:?}", model.warnings);
-    let area2 = tri_area2(tris[0]);
-    let area = exact_to_f64(&area2.dot(&area2)).sqrt() / 2.0;
-    assert!((5e-4..3e-3).contains(&area), "area {area}");
+    assert_eq!(tris.len(), 2, "{:?}", model.warnings);
     let everywhere = Everywhere::new(&g);
-    for dist in [0.01, 1.0, 100.0] {
-        let (ray, exact) = aim(tris[0], dist);
-        assert_hits(&everywhere, &ray, &exact, |t| t == tris[0]);
+    for (tri, areas) in tris.iter().zip([1e-3..1.5e-3, 3e-3..4e-3]) {
+        let area2 = tri_area2(*tri);
+        let area = exact_to_f64(&area2.dot(&area2)).sqrt() / 2.0;
+        assert!(areas.contains(&area), "area {area}");
+        for dist in [0.01, 1.0, 100.0] {
+            let (ray, exact) = aim(*tri, dist);
+            assert_hits(&everywhere, &ray, &exact, |t| t == *tri);
+        }
     }
 }
 
-/// A closed box of `cells` lattice cells, each `steps` f32 spacings wide, near `centre`; faces
-/// alternate between quads and pairs of triangles, all wound outward.
-fn lattice_box(
-    centre: [f64; 3],
-    cells: [usize; 3],
-    steps: [f64; 3],
-) -> (Vec<Vec3>, Vec<Vec<usize>>) {
-    let u = spacing(centre.iter().fold(0.0, |m: f64, c| m.max(c.abs())));
-    let base = centre.map(|c| (c / u).round() * u);
+/// A closed box of `cells` lattice cells of size `steps` from the corner `base` (all exact
+/// f32s); faces alternate between quads and pairs of triangles, all wound outward.
+fn lattice_box(base: [f64; 3], cells: [usize; 3], steps: [f64; 3]) -> (Vec<Vec3>, Vec<Vec<usize>>) {
     let mut index: HashMap<[usize; 3], usize> = HashMap::new();
     let mut points = Vec::new();
     let mut vertex = |l: [usize; 3]| {
         *index.entry(l).or_insert_with(|| {
-            let p = [0, 1, 2].map(|k| base[k] + l[k] as f64 * steps[k] * u);
+            let p = [0, 1, 2].map(|k| base[k] + l[k] as f64 * steps[k]);
             points.push(Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32));
             points.len() - 1
         })
@@ -219,7 +226,11 @@ fn lattice_box(
 #[test]
 fn far_closed_box_of_ulp_sized_faces_keeps_every_face_and_has_no_leaks() {
     for s in [1e4, 1e5, 1e6, 1e7] {
-        let (points, faces) = lattice_box([s, -0.61 * s, 0.37 * s], [6, 3, 4], [3.0, 1.0, 2.0]);
+        // Cells 400 long in x, one f32 spacing high in y (at y = 1235: 1.2e-4) and 8 deep in z:
+        // the x-y faces are slivers 3.3e6 times longer than high, 1e4..1e7 from the origin.
+        let base = [odd(s), odd(1235.0), odd(-0.37 * s)];
+        let steps = [400.0, ulp(1235.0), 8.0 * ulp(base[2])];
+        let (points, faces) = lattice_box(base, [4, 2, 3], steps);
         let model = load(&obj_text(&points, &faces), "box.obj");
         let g = geometry(&model);
         let loaded = triangles(&g);
@@ -244,7 +255,7 @@ fn far_closed_box_of_ulp_sized_faces_keeps_every_face_and_has_no_leaks() {
             let axis = (0..3)
                 .find(|&k| tri.iter().all(|p| p[k] == tri[0][k]))
                 .unwrap();
-            let (ray, exact) = aim(tri, 8.0 * spacing(s));
+            let (ray, exact) = aim(tri, 8.0 * ulp(s));
             assert_hits(&everywhere, &ray, &exact, |t| {
                 t.iter().all(|p| p[axis] == tri[0][axis])
             });
@@ -284,18 +295,25 @@ fn exactly_degenerate_faces_are_dropped_with_file_and_line_and_near_ones_kept() 
 
 #[test]
 fn far_sliver_ngons_keep_their_exact_area() {
-    // Exactly planar (z constant) polygons one or two f32 spacings thin, 1e5 from the origin.
-    let (x0, y0, z) = (148376.0f64, -223423.0f64, 1235.0f32);
-    let u = spacing(y0.abs());
-    let at = |i: f64, j: f64| Vec3::new((x0 + i * u) as f32, (y0 + j * u) as f32, z);
-    let quad = vec![at(0., 0.), at(4000., 0.), at(4000., 1.), at(0., 1.)];
-    let skew = vec![at(0., 0.), at(3000., 1.), at(3001., 2.), at(1., 1.)];
+    // Exactly planar (z constant) polygons 400 long and one or two f32 spacings of y thin
+    // (1.2e-4 at y = 1235), 2.7e5 from the origin: 6e-7 times thinner than long.
+    let (x0, y0, z) = (odd(148376.0), odd(1235.0), odd(-223423.0) as f32);
+    let (ux, uy) = (ulp(x0), ulp(y0));
+    let at = |i: f64, j: f64| Vec3::new((x0 + i * ux) as f32, (y0 + j * uy) as f32, z);
+    let n = 400.0 / ux;
+    let quad = vec![at(0., 0.), at(n, 0.), at(n, 1.), at(0., 1.)];
+    let skew = vec![
+        at(0., 0.),
+        at(0.75 * n, 1.),
+        at(0.75 * n + 1., 2.),
+        at(1., 1.),
+    ];
     // A comb: a long bottom edge (with collinear vertices on it), a zigzag top 1 and 2 high.
-    let mut comb: Vec<Vec3> = (0..=8).map(|i| at(i as f64 * 500.0, 0.)).collect();
+    let mut comb: Vec<Vec3> = (0..=8).map(|i| at(i as f64 * n / 8.0, 0.)).collect();
     comb.extend(
         (0..=16)
             .rev()
-            .map(|i| at(i as f64 * 250.0, 1.0 + (i % 2) as f64)),
+            .map(|i| at(i as f64 * n / 16.0, 1.0 + (i % 2) as f64)),
     );
     let ccw = comb.clone();
     comb.reverse();
@@ -322,8 +340,8 @@ fn far_sliver_ngons_keep_their_exact_area() {
 
 #[test]
 fn coplanar_overlapping_faces_are_all_kept_and_hit() {
-    let (x0, y0, z) = (-148376.0f64, 223423.0f64, 1235.0f32);
-    let u = spacing(y0);
+    let (x0, y0, z) = (odd(-148376.0), odd(223423.0), odd(1235.0) as f32);
+    let u = ulp(y0);
     let at = |i: f64, j: f64| Vec3::new((x0 + i * u) as f32, (y0 + j * u) as f32, z);
     let points = [
         at(0., 0.),
