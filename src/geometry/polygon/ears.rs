@@ -20,6 +20,14 @@ struct Ring<'a> {
     convex: Vec<bool>,
     /// Whether the vertex may be clipped now (see [`Ring::is_ear`]).
     ear: Vec<bool>,
+    /// Clipped already.
+    removed: Vec<bool>,
+    /// Every vertex that may block an ear (not convex), plus entries gone stale (removed or
+    /// convex since), skipped when read and swept out now and then: ear tests cost the
+    /// number of reflex vertices, not of all vertices.
+    blockers: Vec<usize>,
+    /// Whether the vertex is in `blockers`.
+    listed: Vec<bool>,
 }
 
 impl Ring<'_> {
@@ -30,6 +38,20 @@ impl Ring<'_> {
     fn update_convex(&mut self, b: usize) {
         let [a, _, c] = self.triangle(b);
         self.convex[b] = orient2d(self.p[a], self.p[b], self.p[c]) == Greater;
+        if !self.convex[b] && !self.listed[b] {
+            self.blockers.push(b);
+            self.listed[b] = true;
+        }
+    }
+
+    /// Drops the stale entries of `blockers`.
+    fn sweep(&mut self) {
+        let (removed, convex, listed) = (&self.removed, &self.convex, &mut self.listed);
+        self.blockers.retain(|&v| {
+            let keep = !removed[v] && !convex[v];
+            listed[v] = keep;
+            keep
+        });
     }
 
     /// A vertex may be clipped when its triangle has exactly zero area (clipping it then
@@ -46,10 +68,17 @@ impl Ring<'_> {
             return false;
         }
         let (pa, pb, pc) = (self.p[a], self.p[b], self.p[c]);
-        let mut v = self.next[c];
-        while v != a {
+        // The triangle's bounding box: a cheap exact reject before the orientation tests.
+        let lo = [0, 1].map(|k| pa[k].min(pb[k]).min(pc[k]));
+        let hi = [0, 1].map(|k| pa[k].max(pb[k]).max(pc[k]));
+        for &v in &self.blockers {
             let q = self.p[v];
-            if !self.convex[v]
+            if (0..2).all(|k| lo[k] <= q[k] && q[k] <= hi[k])
+                && !self.convex[v]
+                && !self.removed[v]
+                && v != a
+                && v != b
+                && v != c
                 && q != pa
                 && q != pb
                 && q != pc
@@ -59,7 +88,6 @@ impl Ring<'_> {
             {
                 return false;
             }
-            v = self.next[v];
         }
         true
     }
@@ -91,6 +119,9 @@ pub(super) fn clip_ears(points: &[Vec3], p: &[[f64; 2]]) -> Triangulation {
         next: (0..n).map(|i| (i + 1) % n).collect(),
         convex: vec![false; n],
         ear: vec![false; n],
+        removed: vec![false; n],
+        blockers: Vec::new(),
+        listed: vec![false; n],
     };
     (0..n).for_each(|b| ring.update_convex(b));
     ring.ear = (0..n).map(|b| ring.is_ear(b)).collect();
@@ -124,7 +155,11 @@ pub(super) fn clip_ears(points: &[Vec3], p: &[[f64; 2]]) -> Triangulation {
         }
         stale |= !ring.convex[b];
         (ring.next[a], ring.prev[c]) = (c, a);
+        ring.removed[b] = true;
         left -= 1;
+        if left.is_power_of_two() {
+            ring.sweep();
+        }
         for v in [a, c] {
             ring.update_convex(v);
         }
