@@ -337,4 +337,35 @@ mod tests {
             assert!((signed - newell_f64(poly).z).abs() < 1e-9, "{signed}");
         }
     }
+
+    #[test]
+    fn bridged_hole_and_skew_quad_are_ear_clipped() {
+        // A 4 x 4 square with a 2 x 2 hole, joined by a bridge walked both ways (repeated
+        // vertices): 12 of area, every triangle counter-clockwise.
+        let p = [
+            (0., 0.),
+            (4., 0.),
+            (4., 4.),
+            (0., 4.),
+            (1., 3.),
+            (3., 3.),
+            (3., 1.),
+            (1., 1.),
+            (1., 3.),
+            (0., 4.),
+        ]
+        .map(|(x, y)| Vec3::new(x, y, 0.0));
+        let tris = tris_of(triangulate_polygon(&p));
+        assert!(tris.iter().all(|&t| area(&p, &[t]) > 0.0));
+        assert_eq!(area64(&p, &tris), 24.0);
+        // Slightly non-planar: both triangles kept, winding with the Newell normal.
+        let q = [Vec3::ZERO, Vec3::X, Vec3::new(1., 1., 1e-3), Vec3::Y];
+        let tris = tris_of(triangulate_polygon(&q));
+        assert_eq!(tris.len(), 2);
+        let w = newell_normal(&q);
+        assert!(
+            tris.iter()
+                .all(|&[a, b, c]| (q[b] - q[a]).cross(q[c] - q[a]).dot(w) > 0.0)
+        );
+    }
 }
