@@ -224,7 +224,7 @@ fn lattice_box(base: [f64; 3], cells: [usize; 3], steps: [f64; 3]) -> (Vec<Vec3>
 }
 
 #[test]
-fn far_closed_box_of_ulp_sized_faces_keeps_every_face_and_has_no_leaks() {
+fn far_closed_box_of_ulp_thin_faces_keeps_every_face_and_has_no_leaks() {
     for s in [1e4, 1e5, 1e6, 1e7] {
         // Cells 400 long in x, one f32 spacing high in y (at y = 1235: 1.2e-4) and 8 deep in z:
         // the x-y faces are slivers 3.3e6 times longer than high, 1e4..1e7 from the origin.
