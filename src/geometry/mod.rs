@@ -5,6 +5,7 @@
 
 mod accuracy;
 mod conditioning;
+mod exact;
 mod mesh;
 mod polygon;
 mod sphere;
@@ -12,7 +13,7 @@ mod surface;
 mod triangle;
 
 pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsilon};
-
+pub use exact::{cross_sign, orient2d, triangle_area_is_zero};
 pub use mesh::{Mesh, MeshError};
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
 pub use sphere::Sphere;

@@ -204,12 +204,15 @@ fn triangulate(m: &tobj::Mesh, lines: Option<&[usize]>) -> (Vec<[u32; 3]>, Vec<S
             Triangulation::Ears(t) => t,
             Triangulation::Fan(t) => {
                 notes.push(format!(
-                    "{at}: polygon is not simple (it crosses itself); triangulated as a fan"
+                    "{at}: polygon is not simple (it crosses itself) or too large to ear-clip; \
+                     triangulated as a fan"
                 ));
                 t
             }
             Triangulation::Degenerate => {
-                notes.push(format!("{at}: polygon has zero area; skipped"));
+                notes.push(format!(
+                    "{at}: polygon has exactly zero area (collinear or repeated points); skipped"
+                ));
                 continue;
             }
         };

@@ -14,5 +14,6 @@ mod harness;
 mod directions;
 mod glass;
 mod offsets;
+mod polygons;
 mod shading;
 mod triangles;
