@@ -7,6 +7,7 @@ mod mesh;
 mod polygon;
 mod sphere;
 mod triangle;
+mod twofloat;
 
 pub use mesh::{Mesh, MeshError};
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
