@@ -21,12 +21,21 @@ pub struct Sphere {
 }
 
 impl Sphere {
-    /// Its bounding box.
+    /// Its bounding box, rounded outwards: `c +- r` in f32 would round a sphere smaller than
+    /// `ulp(c)` (r = 1e-3 at 1e5) to a box that misses part of it, or to a flat one.
     pub fn bounds(&self) -> Aabb {
-        Aabb::new(
-            self.center - Vec3::splat(self.radius),
-            self.center + Vec3::splat(self.radius),
-        )
+        let r = self.radius as f64;
+        let down = |x: f32| {
+            let e = x as f64 - r;
+            let f = e as f32;
+            if f as f64 > e { f.next_down() } else { f }
+        };
+        let up = |x: f32| {
+            let e = x as f64 + r;
+            let f = e as f32;
+            if (f as f64) < e { f.next_up() } else { f }
+        };
+        Aabb::new(self.center.map(down), self.center.map(up))
     }
 
     /// The nearest `t` in `(ray.t_min, ray.t_max]` where the ray meets the surface; always

@@ -73,7 +73,11 @@ impl<'a> Everywhere<'a> {
         };
         let reference = query(&self.brute);
         for (name, a) in &self.configs {
-            assert_eq!(query(a), reference, "{name} differs from brute force on {ray:?}");
+            assert_eq!(
+                query(a),
+                reference,
+                "{name} differs from brute force on {ray:?}"
+            );
         }
         reference
     }

@@ -11,4 +11,6 @@ mod common;
 mod exact;
 mod harness;
 
+mod camera;
 mod shading;
+mod spheres;
