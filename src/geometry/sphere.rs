@@ -148,7 +148,7 @@ impl Sphere {
         let b = 2.0 * f.dot(d);
         let c = f.dot(f) - self.radius * self.radius;
         let disc = b * b - 4.0 * a * c;
-        if !(disc >= 0.0) {
+        if disc < 0.0 {
             return None;
         }
         let s = disc.sqrt();
