@@ -217,6 +217,46 @@ mod tests {
     }
 
     #[test]
+    fn all_variants_agree_on_easy_rays_and_never_return_infinity() {
+        let s = Sphere {
+            center: Vec3::new(0.5, -0.25, 3.0),
+            radius: 1.25,
+        };
+        let r = Ray::new(Vec3::ZERO, Vec3::new(0.1, -0.05, 1.0));
+        let t = s.intersect(&r).unwrap();
+        assert_eq!(s.intersect_double(&r), Some(t));
+        assert!((s.intersect_fast(&r).unwrap() - t).abs() < 1e-5);
+        // A subnormal direction puts the root beyond f32::MAX: a miss, not +inf.
+        let tiny = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, f32::from_bits(1)));
+        assert_eq!(s.intersect(&tiny), None);
+        assert_eq!(s.intersect_fast(&tiny), None);
+    }
+
+    #[test]
+    fn bounds_contain_a_sphere_smaller_than_the_ulp_of_its_centre() {
+        let s = Sphere {
+            center: Vec3::new(1e5, -3e5, 7e4),
+            radius: 1e-3,
+        };
+        let b = s.bounds();
+        for i in 0..3 {
+            assert!((b.min[i] as f64) <= s.center[i] as f64 - 1e-3);
+            assert!((b.max[i] as f64) >= s.center[i] as f64 + 1e-3);
+        }
+    }
+
+    #[test]
+    fn project_keeps_small_coordinates_next_to_a_huge_sphere() {
+        // The top of this sphere is y = 0; f64 alone lands ~1e-9 off.
+        let s = Sphere {
+            center: Vec3::new(0.0, -1e7, 0.0),
+            radius: 1e7,
+        };
+        let p = s.project(Vec3::new(0.0, 1e-4, 0.0));
+        assert!(p.y.abs() < 1e-20, "{p}");
+    }
+
+    #[test]
     fn huge_ground_sphere_is_hit_at_the_right_height() {
         // The paper's ground: radius 9,999,899 centred 1e7 below the origin, top at y = -101.
         let s = Sphere {
