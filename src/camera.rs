@@ -9,24 +9,51 @@
 //! aperture = 0.05       # lens radius (0: pinhole)
 //! focus_distance = 8.0  # distance to the plane in focus (default: |look_at - position|)
 //! ```
+//!
+//! # Precision, and its limit
+//!
+//! The basis (`forward`, `right`, `up`) and `tan(fov / 2)` are built and held in `f64`. A pixel's
+//! ray is formed in camera space as `(sx, sy, 1)` in `f64`, taken to world space and normalised
+//! in `f64`, and rounded once to `f32`, each component correctly rounded. Thin-lens rays aim at
+//! the `f64` focus point from their (rounded) `f32` lens origin. So neighbouring pixels keep their
+//! difference of direction down to the resolution of the `f32` ray itself, which is the limit:
+//!
+//! * **Directions.** A unit `f32` direction can only change by steps of `ulp(d_i)` in each
+//!   component, `2^-24..2^-23` of the component's size. Turning it by an angle `delta` moves the
+//!   components perpendicular to the turn by about `delta`, so a per-pixel angle
+//!   `delta = 2 tan(fov / 2) / height` is resolved only when it exceeds the ulp of the components
+//!   it lands in. Looking along a world axis the other components are small (`s`) and the
+//!   resolution is about `s * 2^-23` (1e-12 rad for `s = 1e-5`); in an oblique view every
+//!   component is ~0.58 and the resolution is `2^-24 ~ 6e-8` rad, the best any `f32` direction
+//!   has. There a field of view of 1.4e-6 degrees (2.4e-8 rad over 64 rows, 3.8e-10 rad a pixel)
+//!   puts ~150 pixels on each representable direction: the image is made of flat blocks, however
+//!   exact the camera maths (`tests/hard_cases/camera.rs`).
+//! * **Positions.** The eye is an `f32` point on the grid `ulp(|p_i|)`: 8 units at 1e8. The camera
+//!   cannot sit between grid points, lens offsets are rounded onto that grid too (an aperture
+//!   below `ulp(p)` collapses to the pinhole or is quantised), and a hit at distance `t` is
+//!   located only to `t * ulp(d) + ulp(p)`.
+//! * **Matrices.** `world_to_camera` / `world_to_ndc` are computed in `f64` but stored as `f32`
+//!   (the EXR header's M44f): their translation `-R p` keeps only ~7 digits, so reprojecting
+//!   through them far from the origin is good to `ulp(|p|)` in camera space, not to a pixel.
 
-use crate::math::{Mat4, Ray, Vec2, Vec3, Vec4};
+use crate::math::{Mat4, Ray, Vec2, Vec3};
+use glam::{DMat4, DVec3, DVec4};
 
 /// A perspective camera in world space. Image `x` grows right and `y` grows down.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
     position: Vec3,
-    /// Unit view direction.
-    forward: Vec3,
+    /// Unit view direction (f64: f32 would quantise tiny fields of view, see the module docs).
+    forward: DVec3,
     /// Unit right vector of the image.
-    right: Vec3,
+    right: DVec3,
     /// Unit up vector of the image.
-    up: Vec3,
+    up: DVec3,
     /// `tan(fov / 2)` along `fov_axis`.
-    tan_half_fov: f32,
+    tan_half_fov: f64,
     fov_axis: FovAxis,
     lens: Lens,
-    focus_distance: f32,
+    focus_distance: f64,
 }
 
 /// Which image axis the field of view spans; the other follows from the aspect ratio.
@@ -77,16 +104,17 @@ impl Camera {
         aperture: f32,
         focus_distance: Option<f32>,
     ) -> Result<Self, CameraError> {
-        let view = look_at - position;
+        // f32 inputs differ exactly in f64 (unless their exponents are 29+ apart).
+        let view = look_at.as_dvec3() - position.as_dvec3();
         let forward = view.try_normalize().ok_or(CameraError::NoViewDirection)?;
         let right = forward
-            .cross(up)
+            .cross(up.as_dvec3())
             .try_normalize()
             .ok_or(CameraError::UpParallel)?;
         if !(fov_deg > 0.0 && fov_deg < 180.0) {
             return Err(CameraError::BadFov(fov_deg));
         }
-        let focus_distance = focus_distance.unwrap_or(view.length());
+        let focus_distance = focus_distance.unwrap_or(view.length() as f32);
         if !(aperture >= 0.0 && focus_distance > 0.0 && focus_distance.is_finite()) {
             return Err(CameraError::BadLens);
         }
@@ -100,10 +128,10 @@ impl Camera {
             forward,
             right,
             up: right.cross(forward),
-            tan_half_fov: (fov_deg.to_radians() * 0.5).tan(),
+            tan_half_fov: ((fov_deg as f64).to_radians() * 0.5).tan(),
             fov_axis: FovAxis::Vertical,
             lens,
-            focus_distance,
+            focus_distance: focus_distance as f64,
         })
     }
 
@@ -120,8 +148,8 @@ impl Camera {
     }
 
     /// `tan` of the half field of view along x and y for a `width x height` image.
-    fn tan_half_xy(&self, width: u32, height: u32) -> (f32, f32) {
-        let aspect = width as f32 / height as f32;
+    fn tan_half_xy(&self, width: u32, height: u32) -> (f64, f64) {
+        let aspect = width as f64 / height as f64;
         match self.fov_axis {
             FovAxis::Vertical => (self.tan_half_fov * aspect, self.tan_half_fov),
             FovAxis::Horizontal => (self.tan_half_fov, self.tan_half_fov / aspect),
@@ -138,9 +166,9 @@ impl Camera {
         self.position
     }
 
-    /// Unit view direction.
+    /// Unit view direction, rounded to f32.
     pub fn forward(&self) -> Vec3 {
-        self.forward
+        self.forward.as_vec3()
     }
 
     /// True when the lens has a non-zero radius.
@@ -154,36 +182,50 @@ impl Camera {
     /// The ray through film position `film` (pixels, `(0,0)` = top-left corner of the image,
     /// `(w,h)` = bottom-right) from lens sample `lens` in `[0,1)^2`.
     pub fn ray(&self, film: Vec2, width: u32, height: u32, lens: Vec2) -> Ray {
-        let dir = self.pinhole_dir(film, width, height);
+        let dir = self.pinhole_dir64(film, width, height);
         let d = match self.lens {
-            Lens::Pinhole => return Ray::new(self.position, dir),
+            Lens::Pinhole => return Ray::new(self.position, dir.as_vec3()),
             Lens::Disk(radius) => concentric_disk(lens) * radius,
             Lens::Square(size) => lens * size,
         };
-        // Thin lens: every ray through the lens meets the pinhole ray on the focus plane.
-        let focus = self.position + dir * (self.focus_distance / dir.dot(self.forward));
-        let origin = self.position + self.right * d.x + self.up * d.y;
-        Ray::new(origin, (focus - origin).normalize())
+        // Thin lens: every ray through the lens meets the pinhole ray on the focus plane. The
+        // direction is aimed from the origin as rounded to f32, so the ray really passes there.
+        let p = self.position.as_dvec3();
+        let focus = p + dir * (self.focus_distance / dir.dot(self.forward));
+        let origin = (p + self.right * d.x as f64 + self.up * d.y as f64).as_vec3();
+        let to_focus = (focus - origin.as_dvec3()).normalize();
+        Ray::new(origin, to_focus.as_vec3())
     }
 
     /// Unit direction of the pinhole ray through a film position (see [`Camera::ray`]).
+    /// Formed in f64 and rounded once, so it is the f32 direction nearest to the exact one.
     pub fn pinhole_dir(&self, film: Vec2, width: u32, height: u32) -> Vec3 {
+        self.pinhole_dir64(film, width, height).as_vec3()
+    }
+
+    /// The camera-space direction `(sx, sy, 1)` taken to world space and normalised, in f64.
+    fn pinhole_dir64(&self, film: Vec2, width: u32, height: u32) -> DVec3 {
         let (tx, ty) = self.tan_half_xy(width, height);
-        let sx = (2.0 * film.x / width as f32 - 1.0) * tx;
-        let sy = (1.0 - 2.0 * film.y / height as f32) * ty;
+        let sx = (2.0 * film.x as f64 / width as f64 - 1.0) * tx;
+        let sy = (1.0 - 2.0 * film.y as f64 / height as f64) * ty;
         (self.forward + self.right * sx + self.up * sy).normalize()
     }
 
     /// OpenEXR `worldToCamera`: world to a left-handed camera space with +x right, +y up and
     /// +z the view direction. Column-vector form; EXR stores it transposed (row vectors).
+    /// Computed in f64 (the transpose of the orthonormal basis, translation `-R p`), rounded once.
     pub fn world_to_camera(&self) -> Mat4 {
-        let cam_to_world = Mat4::from_cols(
-            self.right.extend(0.0),
-            self.up.extend(0.0),
-            self.forward.extend(0.0),
-            self.position.extend(1.0),
-        );
-        cam_to_world.inverse()
+        self.world_to_camera64().as_mat4()
+    }
+
+    fn world_to_camera64(&self) -> DMat4 {
+        let (r, u, f, p) = (self.right, self.up, self.forward, self.position.as_dvec3());
+        DMat4::from_cols(
+            DVec4::new(r.x, u.x, f.x, 0.0),
+            DVec4::new(r.y, u.y, f.y, 0.0),
+            DVec4::new(r.z, u.z, f.z, 0.0),
+            DVec4::new(-r.dot(p), -u.dot(p), -f.dot(p), 1.0),
+        )
     }
 
     /// OpenEXR `worldToNDC`: world to normalised device coordinates after the homogeneous divide,
@@ -193,13 +235,13 @@ impl Camera {
         let (tx, ty) = self.tan_half_xy(width, height);
         let (sx, sy) = (1.0 / tx, 1.0 / ty);
         // Camera (x, y, z) -> clip (x', y', z', w) with ndc = clip.xyz / z.
-        let cam_to_ndc = Mat4::from_cols(
-            Vec4::new(0.5 * sx, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, -0.5 * sy, 0.0, 0.0),
-            Vec4::new(0.5, 0.5, 0.0, 1.0),
-            Vec4::new(0.0, 0.0, 1.0, 0.0),
+        let cam_to_ndc = DMat4::from_cols(
+            DVec4::new(0.5 * sx, 0.0, 0.0, 0.0),
+            DVec4::new(0.0, -0.5 * sy, 0.0, 0.0),
+            DVec4::new(0.5, 0.5, 0.0, 1.0),
+            DVec4::new(0.0, 0.0, 1.0, 0.0),
         );
-        cam_to_ndc * self.world_to_camera()
+        (cam_to_ndc * self.world_to_camera64()).as_mat4()
     }
 }
 

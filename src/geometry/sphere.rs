@@ -1,4 +1,5 @@
-//! Analytic spheres, intersected in a form that stays exact for huge and distant spheres.
+//! Analytic spheres, intersected to within an ulp of the exact root even for huge and distant
+//! spheres, grazing rays and unnormalised directions of any finite magnitude.
 //!
 //! ```toml
 //! [[sphere]]
@@ -7,6 +8,7 @@
 //! material = "glass"
 //! ```
 
+use super::twofloat::{Dd, diff_f32, two_prod};
 use crate::math::{Aabb, Ray, Vec3};
 
 /// A sphere in world space.
@@ -19,69 +21,154 @@ pub struct Sphere {
 }
 
 impl Sphere {
-    /// Its bounding box.
+    /// Its bounding box, rounded outwards: `c +- r` in f32 would round a sphere smaller than
+    /// `ulp(c)` (r = 1e-3 at 1e5) to a box that misses part of it, or to a flat one.
     pub fn bounds(&self) -> Aabb {
-        Aabb::new(
-            self.center - Vec3::splat(self.radius),
-            self.center + Vec3::splat(self.radius),
-        )
+        let r = self.radius as f64;
+        let down = |x: f32| {
+            let e = x as f64 - r;
+            let f = e as f32;
+            if f as f64 > e { f.next_down() } else { f }
+        };
+        let up = |x: f32| {
+            let e = x as f64 + r;
+            let f = e as f32;
+            if (f as f64) < e { f.next_up() } else { f }
+        };
+        Aabb::new(self.center.map(down), self.center.map(up))
     }
 
-    /// The nearest `t` in `(ray.t_min, ray.t_max]` where the ray meets the surface.
+    /// The nearest `t` in `(ray.t_min, ray.t_max]` where the ray meets the surface; always
+    /// finite (a root beyond `f32::MAX` is a miss).
     ///
-    /// Uses the precision-preserving form of Ray Tracing Gems ch. 7: the discriminant is
-    /// `r^2 - |f - (f.d / d.d) d|^2` (distance of the centre from the ray line, not a difference
-    /// of two huge squares), and the roots come from `q = -(b + sign(b) sqrt(disc))`, which never
-    /// subtracts nearly equal numbers. It is evaluated in `f64`: the constant term
-    /// `|f|^2 - r^2` still cancels for a ray starting on a sphere much larger than the scene
-    /// (r = 1e4: ulp(1e8) = 8 in f32), and that error shows as shadow acne on ground spheres
-    /// (`tests/hard_cases.rs`). The f64 form is exact enough for the paper's r ~ 1e7 ground.
+    /// **Accuracy: the returned `t` is within 1 f32 ulp of the exact root of the `f32` inputs**
+    /// (origin, any finite non-zero direction, centre, radius), and hit/miss agrees with the sign
+    /// of the exact discriminant except when `|disc| < 2^-95 |d|^2 r^2` (a tangency that close is
+    /// below every f32 input's resolution).
+    ///
+    /// The cancellation-free form of Ray Tracing Gems ch. 7 is evaluated in `f64` first: with
+    /// `f = o - c`, the quarter discriminant is `|d|^2 r^2 - |f x d|^2` (Lagrange's identity: no
+    /// difference of two huge squares), and the roots are `q / |d|^2` and `c / q` with
+    /// `q = -(f.d + sign(f.d) sqrt(disc))`, which never subtracts nearly equal numbers. Alongside,
+    /// a first-order bound on the rounding error of each root is accumulated (the rounding of
+    /// `f` itself, of `f.d`, of the discriminant and of the constant `|f|^2 - r^2`). When a root
+    /// that matters could be off by more than `2^-28` relative (rounded to f32 that is at most
+    /// 1/16 ulp extra, hence the 1-ulp bound), or the discriminant's sign is in doubt, the same
+    /// formulas are re-evaluated in double-double ([`Sphere::intersect_double`]). That happens for
+    /// origins very near a huge sphere (r = 1e7 seen from 1e-4 above: `|f|^2 - r^2` loses 11
+    /// digits), for grazing rays and when `o - c` does not fit an `f64` (o.y = 1e-4 against
+    /// c.y = -1e7); ordinary camera and shadow rays stay on the f64 path.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<f32> {
+        // Unit roundoff of f64; the constants below are generous first-order error counts.
+        const U: f64 = f64::EPSILON / 2.0;
+        const TOL: f64 = 1.0 / (1u64 << 28) as f64;
         let f = ray.origin.as_dvec3() - self.center.as_dvec3();
         let d = ray.dir.as_dvec3();
-        let a = d.length_squared();
-        let half_b = f.dot(d);
-        let perp = f - d * (half_b / a);
         let r = self.radius as f64;
-        let disc = a * (r * r - perp.length_squared());
+        let r2 = r * r; // exact: 48 bits
+        let a = d.length_squared();
+        let ff = f.length_squared();
+        let cross2 = f.cross(d).length_squared();
+        let disc = a * r2 - cross2;
+        // |f x d|^2 errs by ~2 |f x d| (|f||d| u) per rounding of f and of the cross product.
+        let e_disc = 8.0 * U * (a * r2 + (cross2 * ff * a).sqrt());
+        if disc < -e_disc {
+            return None;
+        }
+        if disc <= e_disc {
+            return self.intersect_double(ray);
+        }
+        let b = f.dot(d);
+        let e_b = 5.0 * U * f.abs().dot(d.abs());
+        let sq = disc.sqrt();
+        let q = -(b + sq.copysign(b));
+        // sqrt halves the discriminant's relative error; |q| >= sqrt(disc) absorbs it.
+        let rel_q = (e_b + e_disc / sq) / q.abs() + 2.0 * U;
+        let c = ff - r2;
+        let rel_c = 7.0 * U * (ff + r2) / c.abs();
+        let (t0, rel0) = (q / a, rel_q + 2.0 * U);
+        let (t1, rel1) = (c / q, rel_q + rel_c + 2.0 * U);
+        // A root needs to be accurate only when it could decide the answer, i.e. when it may lie
+        // inside the ray's interval.
+        let settled = |t: f64, rel: f64| {
+            let e = t.abs() * rel;
+            rel <= TOL || t + e <= ray.t_min as f64 || t - e > ray.t_max as f64
+        };
+        if !(settled(t0, rel0) && settled(t1, rel1)) {
+            return self.intersect_double(ray);
+        }
+        nearest_in_range(t0 as f32, t1 as f32, ray)
+    }
+
+    /// [`Sphere::intersect`] with every step in double-double arithmetic: `o - c` and `r^2` are
+    /// exact, `|d|^2`, `f.d`, `|f x d|^2`, the discriminant and `|f|^2 - r^2` carry ~106 bits,
+    /// and each root is rounded once to the nearest f32. Never less accurate than `intersect`
+    /// (it is its fallback); about ten times slower. The `--precision double` option.
+    pub fn intersect_double(&self, ray: &Ray) -> Option<f32> {
+        let o = ray.origin.to_array();
+        let c = self.center.to_array();
+        let d = ray.dir.as_dvec3().to_array();
+        let f: [Dd; 3] = std::array::from_fn(|i| diff_f32(o[i], c[i]));
+        let sum3 = |g: &dyn Fn(usize) -> Dd| g(0).add(g(1)).add(g(2));
+        let a = sum3(&|i| two_prod(d[i], d[i]));
+        let b = sum3(&|i| f[i].mul_f64(d[i]));
+        let cross = |i: usize, j: usize| f[i].mul_f64(d[j]).sub(f[j].mul_f64(d[i]));
+        let cross2 = cross(1, 2)
+            .square()
+            .add(cross(2, 0).square())
+            .add(cross(0, 1).square());
+        let r = self.radius as f64;
+        let r2 = Dd::from_f64(r * r); // exact
+        let disc = a.mul(r2).sub(cross2);
+        if disc.is_negative() {
+            return None;
+        }
+        let k = sum3(&|i| f[i].square()).sub(r2);
+        let sq = disc.sqrt();
+        let q = if b.is_negative() {
+            sq.sub(b)
+        } else {
+            b.add(sq).neg()
+        };
+        // q == 0 only for an origin exactly at the tangent point: both roots are 0.
+        if q.hi == 0.0 {
+            return nearest_in_range(0.0, 0.0, ray);
+        }
+        nearest_in_range(q.div(a).to_f32(), k.div(q).to_f32(), ray)
+    }
+
+    /// The textbook quadratic `b^2 - 4ac` evaluated in `f32`, as many renderers ship it: fast,
+    /// but `c = |f|^2 - r^2` and the discriminant cancel catastrophically for huge or distant
+    /// spheres (thousands of ulps on a radius-1e7 ground). The `--precision fast` option.
+    pub fn intersect_fast(&self, ray: &Ray) -> Option<f32> {
+        let f = ray.origin - self.center;
+        let d = ray.dir;
+        let a = d.dot(d);
+        let b = 2.0 * f.dot(d);
+        let c = f.dot(f) - self.radius * self.radius;
+        let disc = b * b - 4.0 * a * c;
         if disc < 0.0 {
             return None;
         }
-        let c = f.length_squared() - r * r;
-        let q = -(half_b + disc.sqrt().copysign(half_b));
-        let (mut t0, mut t1) = ((c / q) as f32, (q / a) as f32);
-        if t0 > t1 {
-            std::mem::swap(&mut t0, &mut t1);
-        }
-        if t0 > ray.t_min && t0 <= ray.t_max {
-            Some(t0)
-        } else if t1 > ray.t_min && t1 <= ray.t_max {
-            Some(t1)
-        } else {
-            None
-        }
+        let s = disc.sqrt();
+        nearest_in_range((-b - s) / (2.0 * a), (-b + s) / (2.0 * a), ray)
     }
 
-    /// TEMPORARY stand-in until the sphere precision variants land.
-    pub fn intersect_fast(&self, ray: &Ray) -> Option<f32> {
-        self.intersect(ray)
-    }
-
-    /// TEMPORARY stand-in until the sphere precision variants land.
-    pub fn intersect_double(&self, ray: &Ray) -> Option<f32> {
-        self.intersect(ray)
-    }
-
-    /// The point of the surface nearest to `p` (computed in f64, then rounded).
+    /// The point of the surface nearest to `p`, correctly rounded per component: `p - c`, its
+    /// length and `c + (p - c) r / |p - c|` are evaluated in double-double, so a point 1e-4 above
+    /// a sphere centred 1e7 away keeps its small coordinates (f64 alone would lose ~1e-9).
     pub fn project(&self, p: Vec3) -> Vec3 {
-        let c = self.center.as_dvec3();
-        let d = p.as_dvec3() - c;
-        let len = d.length();
-        if len == 0.0 {
-            return p;
+        let (p, c) = (p.to_array(), self.center.to_array());
+        let d: [Dd; 3] = std::array::from_fn(|i| diff_f32(p[i], c[i]));
+        let len2 = d[0].square().add(d[1].square()).add(d[2].square());
+        if len2.hi == 0.0 {
+            return Vec3::from_array(p);
         }
-        (c + d * (self.radius as f64 / len)).as_vec3()
+        let s = Dd::from_f64(self.radius as f64).div(len2.sqrt());
+        Vec3::from_array(std::array::from_fn(|i| {
+            d[i].mul(s).add_f64(c[i] as f64).to_f32()
+        }))
     }
 
     /// Outward unit normal at a surface point.
@@ -99,6 +186,20 @@ impl Sphere {
     }
 }
 
+/// The smaller of two candidate roots in `(t_min, t_max]`, else the larger; never infinite or NaN.
+#[inline]
+fn nearest_in_range(t0: f32, t1: f32, ray: &Ray) -> Option<f32> {
+    let (lo, hi) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+    let ok = |t: f32| t > ray.t_min && t <= ray.t_max && t.is_finite();
+    if ok(lo) {
+        Some(lo)
+    } else if ok(hi) {
+        Some(hi)
+    } else {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -113,6 +214,46 @@ mod tests {
         assert_eq!(s.intersect(&r), Some(4.0));
         let inside = Ray::new(Vec3::ZERO, Vec3::Z * 2.0);
         assert_eq!(s.intersect(&inside), Some(0.5));
+    }
+
+    #[test]
+    fn all_variants_agree_on_easy_rays_and_never_return_infinity() {
+        let s = Sphere {
+            center: Vec3::new(0.5, -0.25, 3.0),
+            radius: 1.25,
+        };
+        let r = Ray::new(Vec3::ZERO, Vec3::new(0.1, -0.05, 1.0));
+        let t = s.intersect(&r).unwrap();
+        assert_eq!(s.intersect_double(&r), Some(t));
+        assert!((s.intersect_fast(&r).unwrap() - t).abs() < 1e-5);
+        // A subnormal direction puts the root beyond f32::MAX: a miss, not +inf.
+        let tiny = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, f32::from_bits(1)));
+        assert_eq!(s.intersect(&tiny), None);
+        assert_eq!(s.intersect_fast(&tiny), None);
+    }
+
+    #[test]
+    fn bounds_contain_a_sphere_smaller_than_the_ulp_of_its_centre() {
+        let s = Sphere {
+            center: Vec3::new(1e5, -3e5, 7e4),
+            radius: 1e-3,
+        };
+        let b = s.bounds();
+        for i in 0..3 {
+            assert!((b.min[i] as f64) <= s.center[i] as f64 - 1e-3);
+            assert!((b.max[i] as f64) >= s.center[i] as f64 + 1e-3);
+        }
+    }
+
+    #[test]
+    fn project_keeps_small_coordinates_next_to_a_huge_sphere() {
+        // The top of this sphere is y = 0; f64 alone lands ~1e-9 off.
+        let s = Sphere {
+            center: Vec3::new(0.0, -1e7, 0.0),
+            radius: 1e7,
+        };
+        let p = s.project(Vec3::new(0.0, 1e-4, 0.0));
+        assert!(p.y.abs() < 1e-20, "{p}");
     }
 
     #[test]

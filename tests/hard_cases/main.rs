@@ -11,9 +11,11 @@ mod common;
 mod exact;
 mod harness;
 
+mod camera;
 mod directions;
 mod glass;
 mod offsets;
 mod polygons;
 mod shading;
+mod spheres;
 mod triangles;
