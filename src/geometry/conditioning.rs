@@ -7,6 +7,7 @@
 //! only on the ray and the edge's two vertices, so both triangles sharing the edge make the same
 //! choice and get the same value (negated), exactly as the `f32` values are shared.
 
+use super::twofloat::{two_prod, two_sum};
 use crate::math::{Ray, Vec3, gamma};
 use glam::DVec3;
 
@@ -53,28 +54,13 @@ pub(crate) fn edge_error_bound(m_p: f32, m_q: f32) -> f32 {
     gamma(8) * m_p * m_q
 }
 
-/// `a * b` as an exact sum `hi + lo`.
-#[inline(always)]
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
-}
-
-/// `a + b` as an exact sum `hi + lo` (Knuth).
-#[inline(always)]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
-
 /// A compensated dot product (Ogita, Rump, Oishi 2005, Dot2): as accurate as if computed in
 /// twice the precision, then rounded; `x` is given as an unevaluated sum `hi + lo` per component.
 fn dot2(x_hi: DVec3, x_lo: DVec3, y: DVec3) -> f64 {
     let (mut s, mut c) = (0.0, 0.0);
     for i in 0..3 {
-        let (p, e) = two_prod(x_hi[i], y[i]);
-        let (t, f) = two_sum(s, p);
+        let (p, e) = two_prod(x_hi[i], y[i]).parts();
+        let (t, f) = two_sum(s, p).parts();
         s = t;
         c += f + e + x_lo[i] * y[i];
     }
@@ -86,10 +72,10 @@ fn dot2(x_hi: DVec3, x_lo: DVec3, y: DVec3) -> f64 {
 fn normal_dd(p0: DVec3, p1: DVec3, p2: DVec3) -> (DVec3, DVec3) {
     let (a, b) = (p1 - p0, p2 - p0);
     let comp = |i: usize, j: usize| {
-        let (x, ex) = two_prod(a[i], b[j]);
-        let (y, ey) = two_prod(a[j], b[i]);
-        let (s, es) = two_sum(x, -y);
-        two_sum(s, es + ex - ey)
+        let (x, ex) = two_prod(a[i], b[j]).parts();
+        let (y, ey) = two_prod(a[j], b[i]).parts();
+        let (s, es) = two_sum(x, -y).parts();
+        two_sum(s, es + ex - ey).parts()
     };
     let (x, y, z) = (comp(1, 2), comp(2, 0), comp(0, 1));
     (DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1))
@@ -119,7 +105,7 @@ pub(crate) fn plane_distance(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<
     let mut dir_hi = DVec3::ZERO;
     let mut dir_lo = DVec3::ZERO;
     for i in 0..3 {
-        let (h, l) = two_sum(a[i], -o[i]);
+        let (h, l) = two_sum(a[i], -o[i]).parts();
         dir_hi[i] = h;
         dir_lo[i] = l;
     }

@@ -14,20 +14,16 @@ use std::cmp::Ordering;
 
 use crate::math::Vec3;
 
-/// `a + b = s + e` exactly, `s` the rounded sum (Knuth's branch-free form, any magnitudes).
+/// `a + b = s + e` exactly (see [`super::twofloat::two_sum`]).
 #[inline]
 fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let b_virtual = s - a;
-    let a_virtual = s - b_virtual;
-    (s, (a - a_virtual) + (b - b_virtual))
+    super::twofloat::two_sum(a, b).parts()
 }
 
-/// `a * b = p + e` exactly: the fused multiply-add rounds only once, so it returns the error.
+/// `a * b = p + e` exactly (see [`super::twofloat::two_prod`]).
 #[inline]
 fn two_product(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
+    super::twofloat::two_prod(a, b).parts()
 }
 
 /// Adds `b` to the expansion `e` (non-overlapping, increasing magnitude) in place, dropping

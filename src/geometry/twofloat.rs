@@ -47,6 +47,12 @@ pub struct Dd {
 }
 
 impl Dd {
+    /// `(hi, lo)`, for code that carries the parts separately (expansions, compensated sums).
+    #[inline]
+    pub fn parts(self) -> (f64, f64) {
+        (self.hi, self.lo)
+    }
+
     /// Zero.
     pub const ZERO: Dd = Dd { hi: 0.0, lo: 0.0 };
 
