@@ -23,7 +23,10 @@ fn bench_accuracy_writes_csv_and_plot_with_meaningful_errors() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(std::fs::metadata(&plot).unwrap().len() > 1000, "plot too small");
+    assert!(
+        std::fs::metadata(&plot).unwrap().len() > 1000,
+        "plot too small"
+    );
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -67,7 +70,10 @@ fn bench_accuracy_writes_csv_and_plot_with_meaningful_errors() {
     }
     let fast = get("far-occluder", "precision", "fast");
     let disagreements = fast["ray_hit_miss"] + fast["ray_prim"] + fast["shadow_disagree"];
-    assert!(disagreements > 0.0, "fast agrees with f64 everywhere: {fast:?}");
+    assert!(
+        disagreements > 0.0,
+        "fast agrees with f64 everywhere: {fast:?}"
+    );
     // The fixed-ulp offset lifts shadow rays over the occluder hovering 0.5 above the ground.
     assert!(get("far-occluder", "offset", "ulp")["shadow_disagree"] > 0.0);
 }
