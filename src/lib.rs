@@ -6,6 +6,7 @@
 
 pub mod accel;
 pub mod bench;
+pub mod bench_accuracy;
 pub mod bench_load;
 pub mod camera;
 pub mod film;

@@ -50,6 +50,9 @@ enum BenchCommand {
     Paper(cli_bench::PaperArgs),
     /// Load time and peak memory for a generated >= 1M-triangle OBJ and GLB.
     Load(cli_bench::LoadArgs),
+    /// Error against a converged reference vs render time for every accuracy knob, one axis
+    /// at a time from the defaults; CSV and a plot.
+    Accuracy(cli_bench::AccuracyArgs),
     /// One load, for `bench load`'s child processes: prints seconds and peak bytes.
     #[command(hide = true)]
     LoadOne {
@@ -116,6 +119,7 @@ fn main() {
         Some(Command::Render(args)) => run_render(args),
         Some(Command::Bench(BenchCommand::Paper(args))) => cli_bench::run_paper(args),
         Some(Command::Bench(BenchCommand::Load(args))) => cli_bench::run_load(args),
+        Some(Command::Bench(BenchCommand::Accuracy(args))) => cli_bench::run_accuracy(args),
         Some(Command::Bench(BenchCommand::LoadOne { file })) => cli_bench::run_load_one(file),
         Some(Command::Info { file }) => cli_info::run_info(file),
         Some(Command::Hits(args)) => cli_hits::run_hits(args),
