@@ -27,6 +27,7 @@ pub struct AccuracyArgs {
 #[derive(Args, Debug, Default)]
 pub struct CutoffArgs {
     /// Skip reflection/refraction branches whose weight in the pixel is below W (0 = off).
+    /// Default: the scene's `cutoff`, else 0.01 (0 for .scn scenes, as the paper's program).
     #[arg(long, value_name = "W")]
     cutoff: Option<f32>,
 }

@@ -75,7 +75,11 @@ fn toml_render_keys_set_the_accuracy_settings() {
     let st = defaults.settings();
     assert_eq!(
         (st.precision, st.offset, st.cutoff),
-        (Precision::Watertight, Offset::ErrorBound, 0.0)
+        (
+            Precision::Watertight,
+            Offset::ErrorBound,
+            lumis::scene::DEFAULT_CUTOFF
+        )
     );
 }
 

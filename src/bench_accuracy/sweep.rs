@@ -85,19 +85,29 @@ pub fn points() -> Vec<Point> {
     let mut add = |knob, value: String, knobs| {
         v.push(Point { knob, value, knobs });
     };
-    for spp in [1, 3, 4] {
+    // Each axis skips the scene's own default value, which is the `default` point.
+    for spp in [1, 2, 3, 4].into_iter().filter(|&x| x != d.spp) {
         add("spp", spp.to_string(), Knobs { spp, ..d });
     }
-    for max_depth in [0, 1, 2, 3, 8] {
+    for max_depth in [0, 1, 2, 3, 5, 8].into_iter().filter(|&x| x != d.max_depth) {
         add("max_depth", max_depth.to_string(), Knobs { max_depth, ..d });
     }
-    for cutoff in [1e-3, 1e-2, 5e-2, 0.2] {
+    for cutoff in [0.0, 1e-3, 1e-2, 5e-2, 0.2]
+        .into_iter()
+        .filter(|&x| x != d.cutoff)
+    {
         add("cutoff", cutoff.to_string(), Knobs { cutoff, ..d });
     }
-    for precision in [Precision::Fast, Precision::Double] {
+    for precision in Precision::ALL.into_iter().filter(|&x| x != d.precision) {
         add("precision", precision.to_string(), Knobs { precision, ..d });
     }
-    for offset in [Offset::Ulp, Offset::Epsilon(1e-4), Offset::Epsilon(1e-2)] {
+    let offsets = [
+        Offset::ErrorBound,
+        Offset::Ulp,
+        Offset::Epsilon(1e-4),
+        Offset::Epsilon(1e-2),
+    ];
+    for offset in offsets.into_iter().filter(|&x| x != d.offset) {
         add("offset", offset.to_string(), Knobs { offset, ..d });
     }
     let cheapest = Knobs {

@@ -24,7 +24,7 @@ pub use gltf::{GltfOptions, load_gltf_bytes, load_gltf_file};
 pub use mesh_m::{MeshMError, load_m_file, parse_m};
 pub use obj::{ObjModel, ObjObject, load_obj, load_obj_merged, load_obj_meshes};
 pub use scn::{ScnError, load_scn_file, parse_scn};
-pub use settings::Settings;
+pub use settings::{DEFAULT_CUTOFF, Settings};
 pub use toml::{Resolver, load_toml_file, load_toml_str};
 
 use std::path::Path;

@@ -84,6 +84,8 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
         st.ambient,
         st.lens_samples,
     ) = (1920, 1080, 1, 5, Vec3::splat(0.2), 5);
+    // The original traces every reflection and refraction branch: no contribution cutoff.
+    st.cutoff = 0.0;
     let mut cam = CameraSpec::default();
     let mut count = 0usize;
     while let Some((line, keyword)) = p.next() {
