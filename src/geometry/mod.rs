@@ -122,41 +122,47 @@ impl Geometry {
     /// (watertight) tests; `wr` is the ray's shear.
     #[inline]
     pub fn intersect(&self, index: u32, ray: &Ray, wr: &WatertightRay) -> Option<PrimHit> {
-        match self.prims[index as usize] {
-            Primitive::Sphere { sphere } => self.spheres[sphere as usize]
-                .intersect(ray)
-                .map(|t| PrimHit { t, u: 0.0, v: 0.0 }),
-            Primitive::Triangle { mesh, tri } => {
-                let [p0, p1, p2] = self.meshes[mesh as usize].corners(tri);
-                intersect_triangle(ray, wr, p0, p1, p2).map(PrimHit::from)
-            }
-        }
+        self.intersect_by(
+            index,
+            |s| s.intersect(ray),
+            |[p0, p1, p2]| intersect_triangle(ray, wr, p0, p1, p2),
+        )
     }
 
     /// [`Geometry::intersect`] with the `--precision fast` tests.
     #[inline]
     pub fn intersect_fast(&self, index: u32, ray: &Ray) -> Option<PrimHit> {
-        match self.prims[index as usize] {
-            Primitive::Sphere { sphere } => self.spheres[sphere as usize]
-                .intersect_fast(ray)
-                .map(|t| PrimHit { t, u: 0.0, v: 0.0 }),
-            Primitive::Triangle { mesh, tri } => {
-                let [p0, p1, p2] = self.meshes[mesh as usize].corners(tri);
-                intersect_triangle_fast(ray, p0, p1, p2).map(PrimHit::from)
-            }
-        }
+        self.intersect_by(
+            index,
+            |s| s.intersect_fast(ray),
+            |[p0, p1, p2]| intersect_triangle_fast(ray, p0, p1, p2),
+        )
     }
 
     /// [`Geometry::intersect`] with the `--precision double` tests.
     #[inline]
     pub fn intersect_double(&self, index: u32, ray: &Ray) -> Option<PrimHit> {
+        self.intersect_by(
+            index,
+            |s| s.intersect_double(ray),
+            |[p0, p1, p2]| intersect_triangle_double(ray, p0, p1, p2),
+        )
+    }
+
+    /// Primitive `index` through the sphere or the triangle test given.
+    #[inline(always)]
+    fn intersect_by(
+        &self,
+        index: u32,
+        sphere: impl FnOnce(&Sphere) -> Option<f32>,
+        triangle: impl FnOnce([Vec3; 3]) -> Option<TriangleHit>,
+    ) -> Option<PrimHit> {
         match self.prims[index as usize] {
-            Primitive::Sphere { sphere } => self.spheres[sphere as usize]
-                .intersect_double(ray)
-                .map(|t| PrimHit { t, u: 0.0, v: 0.0 }),
+            Primitive::Sphere { sphere: i } => {
+                sphere(&self.spheres[i as usize]).map(|t| PrimHit { t, u: 0.0, v: 0.0 })
+            }
             Primitive::Triangle { mesh, tri } => {
-                let [p0, p1, p2] = self.meshes[mesh as usize].corners(tri);
-                intersect_triangle_double(ray, p0, p1, p2).map(PrimHit::from)
+                triangle(self.meshes[mesh as usize].corners(tri)).map(PrimHit::from)
             }
         }
     }

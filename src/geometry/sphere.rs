@@ -71,8 +71,10 @@ impl Sphere {
         let ff = f.length_squared();
         let cross2 = f.cross(d).length_squared();
         let disc = a * r2 - cross2;
-        // |f x d|^2 errs by ~2 |f x d| (|f||d| u) per rounding of f and of the cross product.
-        let e_disc = 8.0 * U * (a * r2 + (cross2 * ff * a).sqrt());
+        // |f x d|^2 errs by ~2 |f x d| (|f||d| u) per rounding of f and of the cross product,
+        // bounded without a square root by AM-GM: sqrt(cross2 ff a) <= (cross2 + ff a) / 2.
+        // (Square roots and divisions dominate this test's time: the checks below use none.)
+        let e_disc = 8.0 * U * (a * r2 + 0.5 * (cross2 + ff * a));
         if disc < -e_disc {
             return None;
         }
@@ -83,12 +85,18 @@ impl Sphere {
         let e_b = 5.0 * U * f.abs().dot(d.abs());
         let sq = disc.sqrt();
         let q = -(b + sq.copysign(b));
-        // sqrt halves the discriminant's relative error; |q| >= sqrt(disc) absorbs it.
-        let rel_q = (e_b + e_disc / sq) / q.abs() + 2.0 * U;
         let c = ff - r2;
-        let rel_c = 7.0 * U * (ff + r2) / c.abs();
-        let (t0, rel0) = (q / a, rel_q + 2.0 * U);
-        let (t1, rel1) = (c / q, rel_q + rel_c + 2.0 * U);
+        // Relative errors: q's is err_q / (|q| sq) + 2 u (sqrt halves the discriminant's, and
+        // |q| >= sqrt(disc) absorbs it), c's is err_c / |c|; each root adds 2 u more.
+        let err_q = e_b * sq + e_disc;
+        let err_c = 7.0 * U * (ff + r2);
+        let (qs, ac) = (q.abs() * sq, c.abs());
+        let lim = TOL - 4.0 * U;
+        let (t0, t1) = (q / a, c / q);
+        if err_q <= lim * qs && err_q * ac + err_c * qs <= lim * qs * ac {
+            return nearest_in_range(t0 as f32, t1 as f32, ray);
+        }
+        let (rel0, rel1) = (err_q / qs + 4.0 * U, err_q / qs + err_c / ac + 4.0 * U);
         // A root needs to be accurate only when it could decide the answer, i.e. when it may lie
         // inside the ray's interval.
         let settled = |t: f64, rel: f64| {

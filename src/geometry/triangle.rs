@@ -33,19 +33,7 @@ impl WatertightRay {
     /// Precomputes the shear for `dir` (must be non-zero).
     #[inline]
     pub fn new(dir: Vec3) -> Self {
-        let a = dir.abs();
-        let kz = if a.x >= a.y && a.x >= a.z {
-            0
-        } else if a.y >= a.z {
-            1
-        } else {
-            2
-        };
-        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        // Keep the winding of the sheared triangle independent of the sign of the major axis.
-        if dir[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
+        let [kx, ky, kz] = shear_axes(dir.as_dvec3());
         let (sx, sy) = (dir[kx] / dir[kz], dir[ky] / dir[kz]);
         let mut err_w = Vec3::ONE;
         err_w[kz] = sx.abs() + sy.abs();
@@ -58,6 +46,27 @@ impl WatertightRay {
             sz: 1.0 / dir[kz],
             err_w: Vec3A::from(err_w * edge_error_bound(1.0, 1.0).sqrt()),
         }
+    }
+}
+
+/// The axes of the shear for direction `d`: `kz` the largest component's, `kx`, `ky` the
+/// others, swapped when `d[kz] < 0` so the sheared triangle's winding does not depend on the
+/// sign of the major axis. (Exact for `f32` directions converted to `f64`.)
+#[inline]
+fn shear_axes(d: glam::DVec3) -> [usize; 3] {
+    let a = d.abs();
+    let kz = if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    };
+    let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+    if d[kz] < 0.0 {
+        [ky, kx, kz]
+    } else {
+        [kx, ky, kz]
     }
 }
 
@@ -180,18 +189,7 @@ pub fn intersect_triangle_fast(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Optio
 #[inline]
 pub fn intersect_triangle_double(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
     let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-    let ad = d.abs();
-    let kz = if ad.x >= ad.y && ad.x >= ad.z {
-        0
-    } else if ad.y >= ad.z {
-        1
-    } else {
-        2
-    };
-    let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
-    if d[kz] < 0.0 {
-        std::mem::swap(&mut kx, &mut ky);
-    }
+    let [kx, ky, kz] = shear_axes(d);
     let (sx, sy) = (d[kx] / d[kz], d[ky] / d[kz]);
     let a = p0.as_dvec3() - o;
     let b = p1.as_dvec3() - o;

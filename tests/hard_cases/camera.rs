@@ -5,12 +5,11 @@
 //! `lumis::camera`) and intersects the sphere through the cancellation-free distance
 //! `|f x d| / |d|` of the centre from the ray line (f64 error ~1e-8 units at 1e8).
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use super::harness::render_sah;
 use lumis::camera::Camera;
 use lumis::geometry::Sphere;
 use lumis::material::Material;
 use lumis::math::{Vec2, Vec3};
-use lumis::render::{RenderOptions, render};
 use lumis::scene::SceneBuilder;
 use std::collections::HashSet;
 
@@ -76,14 +75,7 @@ fn id_layer(cam: Camera) -> Vec<bool> {
         m,
     );
     let scene = b.build(cam);
-    let accel = Accel::build(
-        AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
-        &BuildOptions::default(),
-    );
-    let film = render(&scene, &accel, &RenderOptions::default())
-        .unwrap()
-        .film;
+    let film = render_sah(&scene);
     (0..SIZE * SIZE)
         .map(|i| film.pixel_aov(i % SIZE, i / SIZE).object_id == 0)
         .collect()

@@ -5,12 +5,11 @@
 //! image as at the origin (a ray that re-hits the surface it leaves takes extra bounces and
 //! loses weight at the cap; one that skips a surface takes another path).
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use super::harness::render_sah;
 use lumis::camera::Camera;
 use lumis::geometry::Sphere;
 use lumis::material::{Material, Texture};
 use lumis::math::Vec3;
-use lumis::render::{RenderOptions, render};
 use lumis::scene::SceneBuilder;
 
 fn nested_glass_at(offset: Vec3) -> Vec<f32> {
@@ -61,14 +60,7 @@ fn nested_glass_at(offset: Vec3) -> Vec<f32> {
     )
     .unwrap();
     let scene = b.build(cam);
-    let accel = Accel::build(
-        AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
-        &BuildOptions::default(),
-    );
-    let film = render(&scene, &accel, &RenderOptions::default())
-        .unwrap()
-        .film;
+    let film = render_sah(&scene);
     film.rgba().iter().map(|p| p.x).collect()
 }
 

@@ -108,3 +108,16 @@ impl<'a> Everywhere<'a> {
         reference
     }
 }
+
+/// Renders `scene` through the SAH hierarchy with default options: the film of a rendered
+/// hard case.
+pub fn render_sah(scene: &lumis::scene::Scene) -> lumis::film::Film {
+    let accel = Accel::build(
+        AccelKind::Sah,
+        &scene.geometry().prim_bounds(),
+        &BuildOptions::default(),
+    );
+    lumis::render::render(scene, &accel, &lumis::render::RenderOptions::default())
+        .expect("renders")
+        .film
+}
