@@ -36,10 +36,16 @@ impl CullBound {
             .max(root.min.abs())
             .max(root.max.abs())
             .max_element();
-        // The length in f64: squares of subnormal or huge components under/overflow in f32.
-        let slack = gamma(16) as f64 * scale as f64 / ray.dir.as_dvec3().length();
+        // The length in f64 only when squares of subnormal or huge components under/overflow
+        // in f32 (the f32 length is then 0, subnormal or infinite).
+        let len = ray.dir.length();
+        let slack = if len.is_normal() && len < 1e18 {
+            gamma(16) * scale / len * CULL_SCALE
+        } else {
+            (gamma(16) as f64 * scale as f64 / ray.dir.as_dvec3().length()) as f32
+        };
         Self {
-            slack: (slack as f32).next_up(),
+            slack: slack.next_up(),
         }
     }
 

@@ -26,10 +26,10 @@ pub(crate) struct SlabF32<const AXIS_PARALLEL: bool> {
 }
 
 impl<const AXIS_PARALLEL: bool> SlabF32<AXIS_PARALLEL> {
-    fn new(ray: &Ray) -> Self {
+    fn new(ray: &Ray, inv: Vec3A) -> Self {
         Self {
             origin: Vec3A::from(ray.origin),
-            inv: crate::math::safe_inverse(ray.dir),
+            inv,
         }
     }
 }
@@ -113,32 +113,41 @@ pub(crate) enum SlabKind {
 
 impl SlabKind {
     /// The test `ray` needs.
-    #[inline]
+    #[cfg(test)]
     pub(crate) fn of(ray: &Ray) -> Self {
-        let d = ray.dir.to_array();
-        let mut kind = SlabKind::Finite;
-        for c in d {
-            if c == 0.0 {
-                kind = SlabKind::AxisParallel;
-            } else if !(1.0 / c).is_normal() || c.abs() > HUGE_COMPONENT {
-                return SlabKind::Wide;
-            }
+        Self::with_inverse(ray, crate::math::safe_inverse(ray.dir))
+    }
+
+    /// The test `ray` needs, given its `f32` reciprocal direction (computed once per ray).
+    #[inline(always)]
+    pub(crate) fn with_inverse(ray: &Ray, inv: Vec3A) -> Self {
+        let d = Vec3A::from(ray.dir);
+        let zero = d.cmpeq(Vec3A::ZERO);
+        // A non-zero component whose reciprocal is not a normal float, or a huge component.
+        let normal = inv.abs().cmpge(Vec3A::splat(f32::MIN_POSITIVE)) & inv.is_finite_mask();
+        let wide = (!zero & !normal) | d.abs().cmpgt(Vec3A::splat(HUGE_COMPONENT));
+        if wide.any() {
+            SlabKind::Wide
+        } else if zero.any() {
+            SlabKind::AxisParallel
+        } else {
+            SlabKind::Finite
         }
-        kind
     }
 }
 
 /// Runs `$body` with `$slab` bound to the slab test `$ray` needs (a macro, because each arm
 /// instantiates the traversal for a different test type).
 macro_rules! with_slab {
-    ($ray:expr, |$slab:ident| $body:expr) => {
-        match $crate::accel::slab::SlabKind::of($ray) {
+    ($ray:expr, |$slab:ident| $body:expr) => {{
+        let inv = $crate::math::safe_inverse($ray.dir);
+        match $crate::accel::slab::SlabKind::with_inverse($ray, inv) {
             $crate::accel::slab::SlabKind::Finite => {
-                let $slab = $crate::accel::slab::SlabF32::<false>::for_ray($ray);
+                let $slab = $crate::accel::slab::SlabF32::<false>::with_inverse($ray, inv);
                 $body
             }
             $crate::accel::slab::SlabKind::AxisParallel => {
-                let $slab = $crate::accel::slab::SlabF32::<true>::for_ray($ray);
+                let $slab = $crate::accel::slab::SlabF32::<true>::with_inverse($ray, inv);
                 $body
             }
             $crate::accel::slab::SlabKind::Wide => {
@@ -146,15 +155,21 @@ macro_rules! with_slab {
                 $body
             }
         }
-    };
+    }};
 }
 pub(crate) use with_slab;
 
 impl<const AXIS_PARALLEL: bool> SlabF32<AXIS_PARALLEL> {
     /// The test for `ray` (see [`with_slab`]).
-    #[inline(always)]
+    #[cfg(test)]
     pub(crate) fn for_ray(ray: &Ray) -> Self {
-        Self::new(ray)
+        Self::new(ray, crate::math::safe_inverse(ray.dir))
+    }
+
+    /// The test for `ray` whose reciprocal direction is `inv` (see [`with_slab`]).
+    #[inline(always)]
+    pub(crate) fn with_inverse(ray: &Ray, inv: Vec3A) -> Self {
+        Self::new(ray, inv)
     }
 }
 

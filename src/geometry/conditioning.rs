@@ -8,7 +8,7 @@
 //! choice and get the same value (negated), exactly as the `f32` values are shared.
 
 use super::twofloat::{two_prod, two_sum};
-use crate::math::{Ray, Vec3, gamma};
+use crate::math::{Ray, Vec3};
 use glam::DVec3;
 
 /// The ray's shear in `f64`, for re-evaluating edge functions.
@@ -43,15 +43,6 @@ impl Shear64 {
         let (qx, qy) = self.project(q);
         qx * py - qy * px
     }
-}
-
-/// A bound on the rounding error of an `f32` edge function of two sheared vertices, from their
-/// magnitudes `m = |v[kx]| + |v[ky]| + (|sx| + |sy|) |v[kz]|` (each computed from `v - o`):
-/// each sheared coordinate carries ~3 roundings of `m`, the products and difference 2 more.
-/// The test folds the factor into per-ray weights, so only the products remain per triangle.
-#[inline(always)]
-pub(crate) fn edge_error_bound(m_p: f32, m_q: f32) -> f32 {
-    gamma(8) * m_p * m_q
 }
 
 /// A compensated dot product (Ogita, Rump, Oishi 2005, Dot2): as accurate as if computed in

@@ -11,7 +11,7 @@
 //! AOV off; the plane form in `f64` keeps them near 1e-7 (measured with tools/crosscheck_hits.py
 //! against a float64 reference).
 
-use super::conditioning::{Shear64, edge_error_bound, plane_distance};
+use super::conditioning::{Shear64, plane_distance};
 use crate::math::{Ray, Vec3, Vec3A};
 
 /// Per-ray constants of the shear transform, computed once per ray and reused for every
@@ -25,7 +25,7 @@ pub struct WatertightRay {
     sy: f32,
     sz: f32,
     /// Weights of `|v|` (world axes) whose dot product is a vertex's sheared magnitude, scaled
-    /// so the product of two is the edge function's error bound (see `edge_error_bound`).
+    /// so the product of two is the edge function's error bound (see [`EDGE_WEIGHT`]).
     err_w: Vec3A,
 }
 
@@ -44,10 +44,17 @@ impl WatertightRay {
             sx,
             sy,
             sz: 1.0 / dir[kz],
-            err_w: Vec3A::from(err_w * edge_error_bound(1.0, 1.0).sqrt()),
+            err_w: Vec3A::from(err_w * EDGE_WEIGHT),
         }
     }
 }
+
+/// `sqrt(gamma(8))`, rounded up: per-vertex weights whose products are the edge functions'
+/// error bounds. An `f32` edge function of two sheared vertices with magnitudes
+/// `m = |v[kx]| + |v[ky]| + (|sx| + |sy|) |v[kz]|` (each from `v - o`) errs by at most
+/// `gamma(8) m_p m_q`: each sheared coordinate carries ~3 roundings of `m`, the products and
+/// the difference 2 more. A constant, so no square root is taken per ray.
+const EDGE_WEIGHT: f32 = 6.906e-4;
 
 /// The axes of the shear for direction `d`: `kz` the largest component's, `kx`, `ky` the
 /// others, swapped when `d[kz] < 0` so the sheared triangle's winding does not depend on the
@@ -227,6 +234,12 @@ mod tests {
     fn hit(o: Vec3, d: Vec3, p: [Vec3; 3]) -> Option<TriangleHit> {
         let r = Ray::new(o, d);
         intersect_triangle(&r, &WatertightRay::new(d), p[0], p[1], p[2])
+    }
+
+    #[test]
+    fn edge_weight_covers_the_edge_error_bound() {
+        let g = crate::math::gamma(8);
+        assert!(EDGE_WEIGHT * EDGE_WEIGHT >= g && EDGE_WEIGHT * EDGE_WEIGHT <= 1.001 * g);
     }
 
     #[test]
