@@ -131,15 +131,16 @@ impl Bvh {
         if self.nodes.is_empty() {
             return None;
         }
-        let mut closest = Closest::new(ray);
-        let mut stack = [0u32; MAX_DEPTH + 1];
-        let mut sp = 0;
         let mut node = &self.nodes[0];
         let cull = CullBound::new(ray, &node.bounds);
         // Fixed for the whole traversal: only `t_max` shrinks as hits are found.
         let t_min = cull.lower(ray.t_min);
         stats.nodes_visited += 1;
         slab.range(&node.bounds, t_min, cull.widen(ray.t_max))?;
+        // Set up only once the root is hit: a ray that misses the scene pays for no stack.
+        let mut closest = Closest::new(ray);
+        let mut stack = [0u32; MAX_DEPTH + 1];
+        let mut sp = 0;
         loop {
             if node.is_leaf() {
                 for &prim in self.leaf_prims(node) {
@@ -221,8 +222,13 @@ impl Bvh {
         }
         let cull = CullBound::new(ray, &self.nodes[0].bounds);
         let (t_min, t_max) = (cull.lower(ray.t_min), cull.widen(ray.t_max));
+        // A ray that misses the scene returns before the stack is set up (counted as the one
+        // node visit the loop would make).
+        if slab.range(&self.nodes[0].bounds, t_min, t_max).is_none() {
+            stats.nodes_visited += 1;
+            return false;
+        }
         let mut stack = [0u32; MAX_DEPTH + 1];
-        stack[0] = 0;
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
