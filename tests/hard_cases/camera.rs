@@ -5,7 +5,7 @@
 //! `lumis::camera`) and intersects the sphere through the cancellation-free distance
 //! `|f x d| / |d|` of the centre from the ray line (f64 error ~1e-8 units at 1e8).
 
-use super::harness::render_sah;
+use super::harness::render_everywhere;
 use lumis::camera::Camera;
 use lumis::geometry::Sphere;
 use lumis::material::Material;
@@ -75,7 +75,7 @@ fn id_layer(cam: Camera) -> Vec<bool> {
         m,
     );
     let scene = b.build(cam);
-    let film = render_sah(&scene);
+    let film = render_everywhere(&scene);
     (0..SIZE * SIZE)
         .map(|i| film.pixel_aov(i % SIZE, i / SIZE).object_id == 0)
         .collect()

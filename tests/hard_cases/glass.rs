@@ -5,7 +5,7 @@
 //! image as at the origin (a ray that re-hits the surface it leaves takes extra bounces and
 //! loses weight at the cap; one that skips a surface takes another path).
 
-use super::harness::render_sah;
+use super::harness::render_everywhere;
 use lumis::camera::Camera;
 use lumis::geometry::Sphere;
 use lumis::material::{Material, Texture};
@@ -60,7 +60,7 @@ fn nested_glass_at(offset: Vec3) -> Vec<f32> {
     )
     .unwrap();
     let scene = b.build(cam);
-    let film = render_sah(&scene);
+    let film = render_everywhere(&scene);
     film.rgba().iter().map(|p| p.x).collect()
 }
 

@@ -109,15 +109,34 @@ impl<'a> Everywhere<'a> {
     }
 }
 
-/// Renders `scene` through the SAH hierarchy with default options: the film of a rendered
-/// hard case.
-pub fn render_sah(scene: &lumis::scene::Scene) -> lumis::film::Film {
-    let accel = Accel::build(
-        AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
+/// Renders `scene` through every accelerator kind under every traversal, asserts that all
+/// films (colour and every AOV) are bit-identical to brute force's, and returns that film:
+/// the rendered hard cases hold for every configuration, not just the default.
+pub fn render_everywhere(scene: &lumis::scene::Scene) -> lumis::film::Film {
+    let bounds = scene.geometry().prim_bounds();
+    let opts = lumis::render::RenderOptions::default();
+    let film = |accel: &Accel| {
+        lumis::render::render(scene, accel, &opts)
+            .expect("renders")
+            .film
+    };
+    let reference = film(&Accel::build(
+        AccelKind::Brute,
+        &bounds,
         &BuildOptions::default(),
-    );
-    lumis::render::render(scene, &accel, &lumis::render::RenderOptions::default())
-        .expect("renders")
-        .film
+    ));
+    for kind in all_kinds() {
+        let opts = BuildOptions {
+            max_leaf_size: kind.default_leaf_size(),
+        };
+        let built = Accel::build(kind, &bounds, &opts);
+        for t in traversals() {
+            let f = film(&built.clone().with_traversal(t));
+            assert!(
+                f.rgba() == reference.rgba() && f.aov() == reference.aov(),
+                "{kind:?} {t:?} renders a different image than brute force"
+            );
+        }
+    }
+    reference
 }

@@ -1,7 +1,7 @@
 //! Rendered hard cases: a ground sphere of radius 1e7 and a small far sphere must render
 //! without holes or speckles; secondary rays must not self-intersect far from the origin.
 
-use super::harness::render_sah;
+use super::harness::render_everywhere;
 use lumis::camera::Camera;
 use lumis::geometry::Sphere;
 use lumis::light::Light;
@@ -50,7 +50,7 @@ fn huge_ground_sphere_and_small_far_sphere_have_no_holes_or_speckles() {
     )
     .unwrap();
     let scene = b.build(cam);
-    let film = render_sah(&scene);
+    let film = render_everywhere(&scene);
 
     // Every pixel below the horizon sees the ground or the far sphere; none leaks through.
     let horizon_row = (0..90)
@@ -122,7 +122,7 @@ fn far_from_origin_scene_renders_like_the_same_scene_at_the_origin() {
         )
         .unwrap();
         let scene = b.build(cam);
-        render_sah(&scene)
+        render_everywhere(&scene)
     };
     let near = render_at(Vec3::ZERO);
     let far = render_at(Vec3::new(1e4, 0.0, -1e4));
@@ -181,7 +181,7 @@ fn render_lit_ground(
         irradiance: Vec3::splat(3.0),
     });
     let scene = b.build(cam);
-    let film = render_sah(&scene);
+    let film = render_everywhere(&scene);
     (
         film,
         0.1 * 0.5 + 0.5 / std::f32::consts::PI * 3.0 * -dir.dot(up),
