@@ -33,7 +33,7 @@ impl WatertightRay {
     /// Precomputes the shear for `dir` (must be non-zero).
     #[inline]
     pub fn new(dir: Vec3) -> Self {
-        let [kx, ky, kz] = shear_axes(dir.as_dvec3());
+        let [kx, ky, kz] = shear_axes(dir);
         let (sx, sy) = (dir[kx] / dir[kz], dir[ky] / dir[kz]);
         let mut err_w = Vec3::ONE;
         err_w[kz] = sx.abs() + sy.abs();
@@ -58,9 +58,9 @@ const EDGE_WEIGHT: f32 = 6.906e-4;
 
 /// The axes of the shear for direction `d`: `kz` the largest component's, `kx`, `ky` the
 /// others, swapped when `d[kz] < 0` so the sheared triangle's winding does not depend on the
-/// sign of the major axis. (Exact for `f32` directions converted to `f64`.)
-#[inline]
-fn shear_axes(d: glam::DVec3) -> [usize; 3] {
+/// sign of the major axis. The same axes serve the `f32` and the `f64` tests.
+#[inline(always)]
+fn shear_axes(d: Vec3) -> [usize; 3] {
     let a = d.abs();
     let kz = if a.x >= a.y && a.x >= a.z {
         0
@@ -196,7 +196,7 @@ pub fn intersect_triangle_fast(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Optio
 #[inline]
 pub fn intersect_triangle_double(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
     let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-    let [kx, ky, kz] = shear_axes(d);
+    let [kx, ky, kz] = shear_axes(ray.dir);
     let (sx, sy) = (d[kx] / d[kz], d[ky] / d[kz]);
     let a = p0.as_dvec3() - o;
     let b = p1.as_dvec3() - o;
