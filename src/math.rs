@@ -189,6 +189,20 @@ pub fn safe_inverse(dir: Vec3) -> Vec3A {
     Vec3A::ONE / Vec3A::from(dir)
 }
 
+/// The largest `f32` not above `x`: an `f64` rounded towards -inf, for bounds that must hold.
+#[inline]
+pub fn f32_down(x: f64) -> f32 {
+    let y = x as f32;
+    if (y as f64) > x { y.next_down() } else { y }
+}
+
+/// The smallest `f32` not below `x`: an `f64` rounded towards +inf, for bounds that must hold.
+#[inline]
+pub fn f32_up(x: f64) -> f32 {
+    let y = x as f32;
+    if (y as f64) < x { y.next_up() } else { y }
+}
+
 /// `1 + 2 * gamma(3)`: the factor that makes the slab test conservative (pbrt-v4, Ize 2013).
 const ROBUST_BOX_SCALE: f32 = 1.0 + 2.0 * gamma(3);
 

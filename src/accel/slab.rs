@@ -8,7 +8,7 @@
 //!   component overflows to infinity (d = 2e-39 would cull a box entered at t = 5e37) and a huge
 //!   one underflows into subnormals that keep too few bits for the widening to cover.
 
-use crate::math::{Aabb, Ray, Vec3A};
+use crate::math::{Aabb, Ray, Vec3A, f32_down, f32_up};
 use glam::DVec3;
 
 /// A slab test prepared for one ray: the entry and exit parameters of a box within
@@ -26,7 +26,9 @@ pub(crate) struct SlabF32<const AXIS_PARALLEL: bool> {
 }
 
 impl<const AXIS_PARALLEL: bool> SlabF32<AXIS_PARALLEL> {
-    fn new(ray: &Ray, inv: Vec3A) -> Self {
+    /// The test for `ray` whose reciprocal direction is `inv` (see [`with_slab`]).
+    #[inline(always)]
+    pub(crate) fn with_inverse(ray: &Ray, inv: Vec3A) -> Self {
         Self {
             origin: Vec3A::from(ray.origin),
             inv,
@@ -53,7 +55,9 @@ pub(crate) struct SlabF64 {
 const F64_SCALE: f64 = 1.0 + 8.0 * f64::EPSILON;
 
 impl SlabF64 {
-    fn new(ray: &Ray) -> Self {
+    /// The test for `ray` (see [`with_slab`]).
+    #[inline(always)]
+    pub(crate) fn for_ray(ray: &Ray) -> Self {
         Self {
             origin: ray.origin.as_dvec3(),
             inv: DVec3::ONE / ray.dir.as_dvec3(),
@@ -81,18 +85,8 @@ impl Slab for SlabF64 {
             return None;
         }
         // Rounded outwards to f32, so the interval still holds the exact one.
-        Some((round_down(near), round_up(far)))
+        Some((f32_down(near), f32_up(far)))
     }
-}
-
-fn round_down(x: f64) -> f32 {
-    let y = x as f32;
-    if (y as f64) > x { y.next_down() } else { y }
-}
-
-fn round_up(x: f64) -> f32 {
-    let y = x as f32;
-    if (y as f64) < x { y.next_up() } else { y }
 }
 
 /// Direction components above this send a ray to the `f64` test: with `|d| > 2^96`, a box
@@ -159,28 +153,6 @@ macro_rules! with_slab {
 }
 pub(crate) use with_slab;
 
-impl<const AXIS_PARALLEL: bool> SlabF32<AXIS_PARALLEL> {
-    /// The test for `ray` (see [`with_slab`]).
-    #[cfg(test)]
-    pub(crate) fn for_ray(ray: &Ray) -> Self {
-        Self::new(ray, crate::math::safe_inverse(ray.dir))
-    }
-
-    /// The test for `ray` whose reciprocal direction is `inv` (see [`with_slab`]).
-    #[inline(always)]
-    pub(crate) fn with_inverse(ray: &Ray, inv: Vec3A) -> Self {
-        Self::new(ray, inv)
-    }
-}
-
-impl SlabF64 {
-    /// The test for `ray` (see [`with_slab`]).
-    #[inline(always)]
-    pub(crate) fn for_ray(ray: &Ray) -> Self {
-        Self::new(ray)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -198,7 +170,7 @@ mod tests {
         assert!(near <= 1e38 && far >= 1e38, "{near} {far}");
         // The f32 test culls it: exactly the bug.
         assert!(
-            SlabF32::<true>::for_ray(&ray)
+            SlabF32::<true>::with_inverse(&ray, crate::math::safe_inverse(ray.dir))
                 .range(&b, 0.0, f32::INFINITY)
                 .is_none()
         );

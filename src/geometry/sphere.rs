@@ -9,7 +9,7 @@
 //! ```
 
 use super::twofloat::{Dd, diff_f32, two_prod};
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{Aabb, Ray, Vec3, f32_down, f32_up};
 
 /// A sphere in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,17 +25,10 @@ impl Sphere {
     /// `ulp(c)` (r = 1e-3 at 1e5) to a box that misses part of it, or to a flat one.
     pub fn bounds(&self) -> Aabb {
         let r = self.radius as f64;
-        let down = |x: f32| {
-            let e = x as f64 - r;
-            let f = e as f32;
-            if f as f64 > e { f.next_down() } else { f }
-        };
-        let up = |x: f32| {
-            let e = x as f64 + r;
-            let f = e as f32;
-            if (f as f64) < e { f.next_up() } else { f }
-        };
-        Aabb::new(self.center.map(down), self.center.map(up))
+        Aabb::new(
+            self.center.map(|x| f32_down(x as f64 - r)),
+            self.center.map(|x| f32_up(x as f64 + r)),
+        )
     }
 
     /// The nearest `t` in `(ray.t_min, ray.t_max]` where the ray meets the surface; always

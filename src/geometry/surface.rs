@@ -2,7 +2,7 @@
 //! bound on the rounding error of the point, and where a ray leaving it must start.
 
 use super::accuracy::Offset;
-use crate::math::{Vec2, Vec3, offset_ray_origin};
+use crate::math::{Vec2, Vec3, f32_up, offset_ray_origin};
 use glam::DVec3;
 
 /// Differential geometry at a hit, in world space.
@@ -29,11 +29,7 @@ pub(crate) fn rounded_with_error(exact: DVec3, slack: DVec3) -> (Vec3, Vec3) {
     let p = exact.as_vec3();
     let err = (p.as_dvec3() - exact).abs() + slack;
     // Rounded up, so the f32 bound still covers the f64 one.
-    let up = |x: f64| {
-        let y = x as f32;
-        if (y as f64) < x { y.next_up() } else { y }
-    };
-    (p, Vec3::new(up(err.x), up(err.y), up(err.z)))
+    (p, Vec3::new(f32_up(err.x), f32_up(err.y), f32_up(err.z)))
 }
 
 impl SurfacePoint {
