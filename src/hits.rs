@@ -26,7 +26,7 @@ use npyz::WriterBuilder;
 use rayon::prelude::*;
 
 use crate::accel::{Accel, Hit, TraversalStats};
-use crate::geometry::{Precision, PrimHit, Primitive, WatertightRay};
+use crate::geometry::{PrimHit, Primitive, with_prim_test};
 use crate::math::{Ray, Vec3};
 use crate::output::{OutputError, write_atomically};
 use crate::scene::Scene;
@@ -225,19 +225,9 @@ impl Query {
         any_hit: bool,
         stats: &mut TraversalStats,
     ) -> [f32; HIT_COLUMNS] {
-        let g = scene.geometry();
-        match scene.settings().precision {
-            Precision::Watertight => {
-                let wr = WatertightRay::new(self.ray.dir);
-                self.row_with(scene, accel, any_hit, stats, |p, r| g.intersect(p, r, &wr))
-            }
-            Precision::Fast => {
-                self.row_with(scene, accel, any_hit, stats, |p, r| g.intersect_fast(p, r))
-            }
-            Precision::Double => self.row_with(scene, accel, any_hit, stats, |p, r| {
-                g.intersect_double(p, r)
-            }),
-        }
+        let (g, precision) = (scene.geometry(), scene.settings().precision);
+        with_prim_test!(g, precision, &self.ray, |test| self
+            .row_with(scene, accel, any_hit, stats, test))
     }
 
     fn row_with(

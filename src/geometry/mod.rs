@@ -28,6 +28,31 @@ use crate::math::{Aabb, Ray, Vec2, Vec3};
 use glam::DVec3;
 use surface::rounded_with_error;
 
+/// Runs `$body` with `$test` bound to the primitive test `$precision` selects, as a closure
+/// `Fn(u32, &Ray) -> Option<PrimHit>` over `$geometry` (a macro, because each arm gives the
+/// traversal a different closure type: the choice is made once per ray, not per primitive).
+macro_rules! with_prim_test {
+    ($geometry:expr, $precision:expr, $ray:expr, |$test:ident| $body:expr) => {{
+        let g = $geometry;
+        match $precision {
+            $crate::geometry::Precision::Watertight => {
+                let wr = $crate::geometry::WatertightRay::new($ray.dir);
+                let $test = |p: u32, r: &$crate::math::Ray| g.intersect(p, r, &wr);
+                $body
+            }
+            $crate::geometry::Precision::Fast => {
+                let $test = |p: u32, r: &$crate::math::Ray| g.intersect_fast(p, r);
+                $body
+            }
+            $crate::geometry::Precision::Double => {
+                let $test = |p: u32, r: &$crate::math::Ray| g.intersect_double(p, r);
+                $body
+            }
+        }
+    }};
+}
+pub(crate) use with_prim_test;
+
 /// One intersectable primitive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Primitive {

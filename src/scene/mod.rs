@@ -31,7 +31,7 @@ use std::path::Path;
 
 use crate::accel::{Accel, Hit, TraversalStats};
 use crate::camera::Camera;
-use crate::geometry::{Geometry, Precision, SurfacePoint, WatertightRay};
+use crate::geometry::{Geometry, SurfacePoint, with_prim_test};
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::Ray;
@@ -195,16 +195,11 @@ impl Scene {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> Option<Interaction> {
-        let g = &self.geometry;
         // One traversal instantiation per precision, chosen once per ray.
-        let Hit { prim, hit } = match self.settings.precision {
-            Precision::Watertight => {
-                let wr = WatertightRay::new(ray.dir);
-                accel.intersect(ray, stats, |p, r| g.intersect(p, r, &wr))
-            }
-            Precision::Fast => accel.intersect(ray, stats, |p, r| g.intersect_fast(p, r)),
-            Precision::Double => accel.intersect(ray, stats, |p, r| g.intersect_double(p, r)),
-        }?;
+        let Hit { prim, hit } =
+            with_prim_test!(&self.geometry, self.settings.precision, ray, |test| {
+                accel.intersect(ray, stats, test)
+            })?;
         let mut hit_ray = *ray;
         hit_ray.t_max = hit.t;
         Some(Interaction {
@@ -217,17 +212,9 @@ impl Scene {
 
     /// True when something blocks `ray` within `(t_min, t_max]`.
     pub fn occluded(&self, accel: &Accel, ray: &Ray, stats: &mut TraversalStats) -> bool {
-        let g = &self.geometry;
-        match self.settings.precision {
-            Precision::Watertight => {
-                let wr = WatertightRay::new(ray.dir);
-                accel.occluded(ray, stats, |p, r| g.intersect(p, r, &wr).is_some())
-            }
-            Precision::Fast => accel.occluded(ray, stats, |p, r| g.intersect_fast(p, r).is_some()),
-            Precision::Double => {
-                accel.occluded(ray, stats, |p, r| g.intersect_double(p, r).is_some())
-            }
-        }
+        with_prim_test!(&self.geometry, self.settings.precision, ray, |test| {
+            accel.occluded(ray, stats, |p, r| test(p, r).is_some())
+        })
     }
 
     /// Which ray kinds this scene can ever spawn; the integrator skips the rest.
