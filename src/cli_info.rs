@@ -1,6 +1,7 @@
 //! `lumis info FILE`: what a scene or model file holds, without rendering.
 
 use anyhow::Result;
+use lumis::effects::{Analysis, EffectMode, effects_text};
 use lumis::scene::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -63,11 +64,12 @@ fn describe(path: &Path, scene: &Scene) -> String {
         "render: {}x{}, {}x{} samples, max depth {}, ambient {}, background {}",
         st.width, st.height, st.spp, st.spp, st.max_depth, st.ambient, st.background
     );
-    let e = scene.effects();
+    // What a render would decide; AOV rays depend on the output, so assume an EXR is written.
+    let analysis = Analysis::new(scene, EffectMode::Auto, true);
+    s += &effects_text(&analysis, None);
     let _ = writeln!(
         s,
-        "effects: shadows {}, reflection {}, refraction {}, depth of field {}",
-        e.shadows, e.reflection, e.refraction, e.depth_of_field
+        "  (aov rays are traced only when an EXR is written: a PNG-only render traces none)"
     );
     let _ = writeln!(s, "warnings: {}", scene.warnings().len());
     for w in scene.warnings() {

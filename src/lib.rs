@@ -9,6 +9,7 @@ pub mod bench;
 pub mod bench_accuracy;
 pub mod bench_load;
 pub mod camera;
+pub mod effects;
 pub mod film;
 pub mod geometry;
 pub mod hits;

@@ -51,6 +51,22 @@ pub struct LightSample {
 }
 
 impl Light {
+    /// True when the light emits nothing (zero colour or intensity): it can light no point.
+    pub fn is_dark(&self) -> bool {
+        let power = match self {
+            Light::Point { intensity, .. } | Light::Spot { intensity, .. } => intensity,
+            Light::Unattenuated { irradiance, .. } | Light::Directional { irradiance, .. } => {
+                irradiance
+            }
+        };
+        *power == Vec3::ZERO
+    }
+
+    /// True for a spot light (whose cone can exclude a point).
+    pub fn is_spot(&self) -> bool {
+        matches!(self, Light::Spot { .. })
+    }
+
     /// The light as seen from `p`.
     pub fn sample(&self, p: Vec3) -> LightSample {
         match self {

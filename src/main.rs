@@ -10,7 +10,7 @@ mod cli_info;
 
 use lumis::output::{ExrMetadata, write_by_extension};
 use lumis::render::{RenderOptions, render};
-use lumis::stats::{PhaseTimes, summary};
+use lumis::stats::{PhaseTimes, summary, summary_json};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -108,9 +108,18 @@ struct RenderArgs {
     /// No progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
-    /// Add traversal counters and the effect analysis to the summary.
+    /// Add traversal counters and every effect decision, with the rays it saved, to the
+    /// summary.
     #[arg(long)]
     stats: bool,
+    /// Also write the summary (times, rays traced by kind, rays not traced by reason, effect
+    /// decisions) as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    stats_json: Option<PathBuf>,
+    /// `auto`: trace only what can change the image; `all`: every effect, from every hit to
+    /// every light, no cutoff (the reference `auto` is bit-identical to at cutoff 0).
+    #[arg(long, value_name = "MODE", default_value = "auto")]
+    effects: lumis::effects::EffectMode,
 }
 
 fn main() {
@@ -173,6 +182,9 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         seed: args.seed,
         threads: args.threads,
         progress: show_progress,
+        // Only EXR has depth, normal and id layers: a PNG-only render traces no rays for them.
+        aov_layers: outputs.iter().any(|p| has_extension(p, "exr")),
+        effects: args.effects,
     };
     let rendered = render(&scene, &accel, &opts)?;
     times.render = t.elapsed();
@@ -194,13 +206,17 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     }
     times.write = t.elapsed();
 
+    if let Some(path) = &args.stats_json {
+        let json = summary_json(&times, &rendered.counts, &rendered.analysis);
+        lumis::output::write_text(path, &json)?;
+    }
     if !args.quiet {
         for path in &outputs {
             eprintln!("wrote {}", path.display());
         }
         eprint!(
             "{}",
-            summary(&times, &rendered.counts, &scene.effects(), args.stats)
+            summary(&times, &rendered.counts, &rendered.analysis, args.stats)
         );
     }
     Ok(())
@@ -228,6 +244,14 @@ fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
         bail!(
             "{}: unknown output format; expected a file name ending in .exr or .png",
             bad.display()
+        );
+    }
+    if let Some(json) = &args.stats_json
+        && paths.contains(json)
+    {
+        bail!(
+            "--stats-json {}: that is also an image output; give the report its own file",
+            json.display()
         );
     }
     Ok(paths)

@@ -77,7 +77,29 @@ impl Material {
 
     /// True when direct lighting (and so shadow rays) can contribute.
     pub fn is_lit(&self) -> bool {
-        !self.diffuse.is_black() || (self.specular != Vec3::ZERO && self.shininess > 0.0)
+        !self.diffuse.is_black() || self.has_phong()
+    }
+
+    /// True when the material has a Phong highlight: a non-zero specular colour and a positive
+    /// exponent (an exponent of 0 or less means "no highlight", as in the `.scn` format).
+    pub fn has_phong(&self) -> bool {
+        self.specular != Vec3::ZERO && self.shininess > 0.0
+    }
+
+    /// The Phong lobe's BRDF for light arriving along `wi` seen from `wo` about the unit
+    /// shading normal `ns`: `ks (n+2)/(2 pi) cos_r^n`. Evaluated in full for every material (the
+    /// `--effects all` reference calls it even where [`Material::has_phong`] is false): without
+    /// a highlight the colour factor is zero and the exponent clamped to 0, so the product is an
+    /// exact zero, never `0 * inf`.
+    pub fn phong(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
+        let ks = if self.shininess > 0.0 {
+            self.specular
+        } else {
+            Vec3::ZERO
+        };
+        let n = self.shininess.max(0.0);
+        let cos_r = reflect(-wi, ns).dot(wo).max(0.0);
+        ks * ((n + 2.0) * 0.5 * std::f32::consts::FRAC_1_PI) * cos_r.powf(n)
     }
 }
 

@@ -2,6 +2,7 @@
 //! a progress bar, and the only place the film is written.
 
 use crate::accel::Accel;
+use crate::effects::{Analysis, EffectMode};
 use crate::film::{Film, PixelAov};
 use crate::integrator::{RayCounts, Whitted};
 use crate::math::{Ray, Vec2, Vec4};
@@ -20,7 +21,7 @@ pub const MAX_SPP: u32 = 64;
 pub const MAX_DEPTH: u32 = 64;
 
 /// How to render.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct RenderOptions {
     /// Seed of every sample's random stream.
     pub seed: u64,
@@ -28,6 +29,23 @@ pub struct RenderOptions {
     pub threads: Option<usize>,
     /// Draw a progress bar on stderr (only when stderr is a terminal).
     pub progress: bool,
+    /// Trace the centre rays that fill the depth, normal and id layers (default true; the CLI
+    /// turns this off when it writes no EXR). Off, those layers keep their miss values.
+    pub aov_layers: bool,
+    /// Only what changes the image, or everything (the reference).
+    pub effects: EffectMode,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            threads: None,
+            progress: false,
+            aov_layers: true,
+            effects: EffectMode::Auto,
+        }
+    }
 }
 
 /// A finished render.
@@ -35,8 +53,10 @@ pub struct RenderOptions {
 pub struct Rendered {
     /// The image and its AOV layers.
     pub film: Film,
-    /// Rays traced, by kind.
+    /// Rays traced, by kind, and not traced, by reason.
     pub counts: RayCounts,
+    /// What the render decided to simulate, and why.
+    pub analysis: Analysis,
 }
 
 /// Why a render could not run.
@@ -95,12 +115,20 @@ pub fn render(scene: &Scene, accel: &Accel, opts: &RenderOptions) -> Result<Rend
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
     let bar = progress_bar(tiles.len() as u64, opts.progress);
-    let integrator = Whitted::new(scene, accel);
+    let analysis = Analysis::new(scene, opts.effects, opts.aov_layers);
+    let integrator = Whitted::new(scene, accel, &analysis);
+    let pass = Pass {
+        scene,
+        integrator: &integrator,
+        seed: opts.seed,
+        lens_rays: analysis.lens_rays,
+        aov: analysis.aov.on,
+    };
     let run = || -> Vec<TileResult> {
         tiles
             .par_iter()
             .map(|&(x0, y0)| {
-                let tile = render_tile(scene, &integrator, opts.seed, x0, y0);
+                let tile = pass.tile(x0, y0);
                 bar.inc(1);
                 tile
             })
@@ -123,7 +151,11 @@ pub fn render(scene: &Scene, accel: &Accel, opts: &RenderOptions) -> Result<Rend
             film.set(t.x0 + i as u32 % t.w, t.y0 + i as u32 / t.w, rgba, aov);
         }
     }
-    Ok(Rendered { film, counts })
+    Ok(Rendered {
+        film,
+        counts,
+        analysis,
+    })
 }
 
 fn progress_bar(len: u64, enabled: bool) -> ProgressBar {
@@ -140,62 +172,70 @@ fn progress_bar(len: u64, enabled: bool) -> ProgressBar {
     bar
 }
 
-fn render_tile(scene: &Scene, integrator: &Whitted, seed: u64, x0: u32, y0: u32) -> TileResult {
-    let st = scene.settings();
-    let (x1, y1) = ((x0 + TILE).min(st.width), (y0 + TILE).min(st.height));
-    let mut counts = RayCounts::default();
-    let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-    for y in y0..y1 {
-        for x in x0..x1 {
-            pixels.push(render_pixel(scene, integrator, seed, x, y, &mut counts));
-        }
-    }
-    TileResult {
-        x0,
-        y0,
-        w: x1 - x0,
-        pixels,
-        counts,
-    }
-}
-
-/// `spp x spp` stratified samples (each jittered in its stratum), each traced through
-/// `lens_samples` lens positions when the camera has depth of field, box-filtered; plus one
-/// pinhole ray through the pixel centre for the AOV layers.
-fn render_pixel(
-    scene: &Scene,
-    integrator: &Whitted,
+/// What every pixel of one render shares.
+struct Pass<'a> {
+    scene: &'a Scene,
+    integrator: &'a Whitted<'a>,
     seed: u64,
-    x: u32,
-    y: u32,
-    counts: &mut RayCounts,
-) -> (Vec4, PixelAov) {
-    let st = scene.settings();
-    let cam = scene.camera();
-    let n = st.spp;
-    let lens_samples = if cam.has_depth_of_field() {
-        st.lens_samples.max(1)
-    } else {
-        1
-    };
-    let mut sum = Vec4::ZERO;
-    for s in 0..n * n {
-        let mut rng = SampleRng::new(seed, x, y, s);
-        let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
-        let stratum = Vec2::new((s % n) as f32, (s / n) as f32);
-        let film = Vec2::new(x as f32, y as f32) + (stratum + jitter) / n as f32;
-        for _ in 0..lens_samples {
-            let lens = Vec2::new(rng.next_f32(), rng.next_f32());
-            let sample = integrator.camera_ray(&cam.ray(film, st.width, st.height, lens), counts);
-            sum += sample
-                .radiance
-                .extend(if sample.opaque { 1.0 } else { 0.0 });
-        }
-    }
-    let rgba = sum / (n * n * lens_samples) as f32;
-    (rgba, centre_aov(scene, integrator, x, y, counts))
+    /// Lens rays per pixel sample (1 on a pinhole camera).
+    lens_rays: u32,
+    /// Whether centre rays for the AOV layers are traced.
+    aov: bool,
 }
 
+impl Pass<'_> {
+    fn tile(&self, x0: u32, y0: u32) -> TileResult {
+        let st = self.scene.settings();
+        let (x1, y1) = ((x0 + TILE).min(st.width), (y0 + TILE).min(st.height));
+        let mut counts = RayCounts::default();
+        let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+        for y in y0..y1 {
+            for x in x0..x1 {
+                pixels.push(self.pixel(x, y, &mut counts));
+            }
+        }
+        TileResult {
+            x0,
+            y0,
+            w: x1 - x0,
+            pixels,
+            counts,
+        }
+    }
+
+    /// `spp x spp` stratified samples (each jittered in its stratum), each traced through
+    /// `lens_rays` lens positions, box-filtered; plus one pinhole ray through the pixel centre
+    /// for the AOV layers when they are written.
+    fn pixel(&self, x: u32, y: u32, counts: &mut RayCounts) -> (Vec4, PixelAov) {
+        let st = self.scene.settings();
+        let cam = self.scene.camera();
+        let n = st.spp;
+        let mut sum = Vec4::ZERO;
+        for s in 0..n * n {
+            let mut rng = SampleRng::new(self.seed, x, y, s);
+            let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
+            let stratum = Vec2::new((s % n) as f32, (s / n) as f32);
+            let film = Vec2::new(x as f32, y as f32) + (stratum + jitter) / n as f32;
+            for _ in 0..self.lens_rays {
+                let lens = Vec2::new(rng.next_f32(), rng.next_f32());
+                let ray = cam.ray(film, st.width, st.height, lens);
+                let sample = self.integrator.camera_ray(&ray, counts);
+                sum += sample
+                    .radiance
+                    .extend(if sample.opaque { 1.0 } else { 0.0 });
+            }
+            counts.not_traced.lens += u64::from(st.lens_samples.saturating_sub(self.lens_rays));
+        }
+        let rgba = sum / (n * n * self.lens_rays) as f32;
+        let aov = if self.aov {
+            centre_aov(self.scene, self.integrator, x, y, counts)
+        } else {
+            counts.not_traced.aov += 1;
+            PixelAov::MISS
+        };
+        (rgba, aov)
+    }
+}
 /// What the pinhole ray through the centre of pixel `(x, y)` hits: exactly the ray a compositor
 /// rebuilds from the EXR's `worldToNDC`.
 fn centre_aov(

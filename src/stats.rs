@@ -1,7 +1,9 @@
-//! The end-of-run summary: time per phase, rays by kind, throughput.
+//! The end-of-run summary: time per phase, rays by kind, throughput, and with `--stats` the
+//! effect decisions; also as JSON (`--stats-json`).
 
+use crate::effects::{Analysis, effects_text};
 use crate::integrator::RayCounts;
-use crate::scene::Effects;
+use serde::Serialize;
 use std::fmt::Write as _;
 use std::time::Duration;
 
@@ -18,11 +20,12 @@ pub struct PhaseTimes {
     pub write: Duration,
 }
 
-/// Formats the summary; `detailed` adds traversal counters and the effect analysis.
+/// Formats the summary; `detailed` adds traversal counters and the effect decisions with the
+/// rays each one saved.
 pub fn summary(
     times: &PhaseTimes,
     counts: &RayCounts,
-    effects: &Effects,
+    analysis: &Analysis,
     detailed: bool,
 ) -> String {
     let secs = |d: Duration| d.as_secs_f64();
@@ -41,11 +44,11 @@ pub fn summary(
         "rays: {total} total = camera {} + aov {} + shadow {} + reflection {} + refraction {}",
         counts.camera, counts.aov, counts.shadow, counts.reflection, counts.refraction
     );
-    if counts.cut > 0 {
+    if counts.cut() > 0 {
         let _ = writeln!(
             s,
             "cutoff: {} reflection/refraction branches below the cutoff not traced",
-            counts.cut
+            counts.cut()
         );
     }
     let mrays = total as f64 / secs(times.render).max(1e-9) / 1e6;
@@ -59,11 +62,45 @@ pub fn summary(
             per(counts.traversal.prim_tests),
             per(counts.traversal.segments)
         );
-        let _ = writeln!(
-            s,
-            "effects: shadows {}, reflection {}, refraction {}, depth of field {}",
-            effects.shadows, effects.reflection, effects.refraction, effects.depth_of_field
-        );
+        s += &effects_text(analysis, Some(counts));
     }
     s
+}
+
+/// The summary as one JSON document: `{"time": {...}, "rays": {...}, "effects": {...}}`.
+pub fn summary_json(times: &PhaseTimes, counts: &RayCounts, analysis: &Analysis) -> String {
+    #[derive(Serialize)]
+    struct Time {
+        load_s: f64,
+        build_s: f64,
+        render_s: f64,
+        write_s: f64,
+    }
+    #[derive(Serialize)]
+    struct Rays<'a> {
+        total: u64,
+        #[serde(flatten)]
+        counts: &'a RayCounts,
+    }
+    #[derive(Serialize)]
+    struct Report<'a> {
+        time: Time,
+        rays: Rays<'a>,
+        effects: &'a Analysis,
+    }
+    let report = Report {
+        time: Time {
+            load_s: times.load.as_secs_f64(),
+            build_s: times.build.as_secs_f64(),
+            render_s: times.render.as_secs_f64(),
+            write_s: times.write.as_secs_f64(),
+        },
+        rays: Rays {
+            total: counts.total(),
+            counts,
+        },
+        effects: analysis,
+    };
+    // Plain structs of numbers, strings and bools: serialising cannot fail.
+    serde_json::to_string_pretty(&report).unwrap_or_default() + "\n"
 }

@@ -71,7 +71,7 @@ fn gltf_bin_data_uri_and_glb_render_identical_depth_and_ids() {
             let opts = RenderOptions {
                 seed: 1,
                 threads: Some(1),
-                progress: false,
+                ..RenderOptions::default()
             };
             render(&s, &accel, &opts).unwrap().film
         })

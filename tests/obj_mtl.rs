@@ -206,7 +206,7 @@ fn textured_quad_renders_its_texels() {
     let opts = RenderOptions {
         seed: 3,
         threads: Some(2),
-        progress: false,
+        ..RenderOptions::default()
     };
     let film = render(&s, &accel, &opts).unwrap().film;
     let (w, h) = (s.settings().width, s.settings().height);

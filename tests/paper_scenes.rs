@@ -56,7 +56,7 @@ fn render_with(scene: &Scene, kind: AccelKind, traversal: Traversal) -> Film {
         &RenderOptions {
             seed: 3,
             threads: None,
-            progress: false,
+            ..RenderOptions::default()
         },
     )
     .unwrap()

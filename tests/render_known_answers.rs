@@ -57,7 +57,7 @@ fn run(scene: &Scene, threads: usize) -> (Film, RayCounts) {
         &RenderOptions {
             seed: 7,
             threads: Some(threads),
-            progress: false,
+            ..RenderOptions::default()
         },
     )
     .unwrap();

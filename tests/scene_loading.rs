@@ -62,8 +62,8 @@ fn default_scene_loads_with_every_effect() {
         (st.width, st.height, st.spp, st.max_depth),
         (640, 360, 2, 5)
     );
-    let fx = s.effects();
-    assert!(fx.shadows && fx.reflection && fx.refraction && fx.depth_of_field);
+    let fx = lumis::effects::Analysis::new(&s, lumis::effects::EffectMode::Auto, true);
+    assert!(fx.shadows.on && fx.reflection.on && fx.refraction.on && fx.depth_of_field.on);
     assert!(s.materials().iter().any(|m| m.emission != Vec3::ZERO));
 }
 

@@ -85,7 +85,7 @@ impl Default for BuildOptions {
 }
 
 /// Counters a traversal adds to; kept per thread and summed afterwards.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct TraversalStats {
     /// Hierarchy nodes whose box was tested.
     pub nodes_visited: u64,

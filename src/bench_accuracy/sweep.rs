@@ -156,9 +156,8 @@ pub fn sweep_scene(bs: &BenchScene, opts: &SweepOptions) -> Result<Vec<Row>> {
     );
     let points = points();
     let ropts = RenderOptions {
-        seed: 0,
         threads: opts.threads,
-        progress: false,
+        ..RenderOptions::default()
     };
     let mut times = vec![Vec::new(); points.len()];
     let mut films = vec![None; points.len()];

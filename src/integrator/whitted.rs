@@ -1,19 +1,27 @@
 //! Whitted-style ray tracing: direct light with hard shadows, recursive mirror reflection and
-//! Fresnel-weighted refraction, up to `max_depth` bounces. Rays for effects the scene does not
-//! call for (see [`crate::scene::Effects`]) are never traced.
+//! Fresnel-weighted refraction, up to `max_depth` bounces.
+//!
+//! Every ray is traced only where its result can change the image (see [`crate::effects`]).
+//! The shading code is one generic function over `ALL`: with `ALL = true` (the
+//! `--effects all` reference) every skip test is compiled out and every ray kind is traced;
+//! with `ALL = false` a ray is skipped only where the reference multiplies its result by an
+//! exact zero, so both produce the same bits.
 
 use super::RayCounts;
 use crate::accel::Accel;
+use crate::effects::{Analysis, EffectMode, MaterialTraits};
 use crate::geometry::{Offset, SurfacePoint};
+use crate::light::LightSample;
 use crate::material::{Material, fresnel_dielectric, reflect, refract};
 use crate::math::{Ray, Vec3};
-use crate::scene::{Effects, Interaction, Scene};
+use crate::scene::{Interaction, Scene};
 
 /// The Whitted integrator over one scene and its accelerator.
 pub struct Whitted<'a> {
     scene: &'a Scene,
     accel: &'a Accel,
-    effects: Effects,
+    analysis: &'a Analysis,
+    all: bool,
     max_depth: u32,
     medium_ior: f32,
     offset: Offset,
@@ -29,14 +37,21 @@ pub struct CameraSample {
     pub opaque: bool,
 }
 
+/// What the material of one hit is and can do.
+struct Shading<'m> {
+    m: &'m Material,
+    traits: MaterialTraits,
+}
+
 impl<'a> Whitted<'a> {
-    /// An integrator that traces only the effects `scene.effects()` reports.
-    pub fn new(scene: &'a Scene, accel: &'a Accel) -> Self {
+    /// An integrator that traces what `analysis` (made for `scene`) decided.
+    pub fn new(scene: &'a Scene, accel: &'a Accel, analysis: &'a Analysis) -> Self {
         let st = scene.settings();
         Self {
             scene,
             accel,
-            effects: scene.effects(),
+            analysis,
+            all: analysis.mode == EffectMode::All,
             max_depth: st.max_depth,
             medium_ior: st.medium_ior,
             offset: st.offset,
@@ -54,7 +69,11 @@ impl<'a> Whitted<'a> {
         counts.camera += 1;
         match self.scene.intersect(self.accel, ray, &mut counts.traversal) {
             Some(hit) => CameraSample {
-                radiance: self.shade(ray, &hit, 0, 1.0, counts),
+                radiance: if self.all {
+                    self.shade::<true>(ray, &hit, 0, 1.0, counts)
+                } else {
+                    self.shade::<false>(ray, &hit, 0, 1.0, counts)
+                },
                 opaque: true,
             },
             None => {
@@ -69,23 +88,42 @@ impl<'a> Whitted<'a> {
 
     /// Radiance along a secondary ray at bounce `depth`, whose radiance enters the pixel
     /// multiplied by `weight`.
-    fn trace(&self, ray: &Ray, depth: u32, weight: f32, counts: &mut RayCounts) -> Vec3 {
+    fn trace<const ALL: bool>(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        weight: f32,
+        counts: &mut RayCounts,
+    ) -> Vec3 {
         match self.scene.intersect(self.accel, ray, &mut counts.traversal) {
-            Some(hit) => self.shade(ray, &hit, depth, weight, counts),
+            Some(hit) => self.shade::<ALL>(ray, &hit, depth, weight, counts),
             None => self.scene.settings().background,
         }
     }
 
-    /// True when a branch of this weight is worth tracing; counts the ones cut.
-    fn keep_branch(&self, weight: f32, counts: &mut RayCounts) -> bool {
+    /// True when a branch whose radiance enters the pixel with weight `weight` (its own weight
+    /// at this hit is `w`) is traced; otherwise counts why not in `skips`.
+    fn keep_branch<const ALL: bool>(
+        &self,
+        w: f32,
+        weight: f32,
+        skips: &mut super::BranchSkips,
+    ) -> bool {
+        if ALL {
+            return true;
+        }
+        if w <= 0.0 {
+            skips.zero_weight += 1;
+            return false;
+        }
         let keep = weight >= self.cutoff;
-        counts.cut += u64::from(!keep);
+        skips.cutoff += u64::from(!keep);
         keep
     }
 
     /// Radiance leaving `hit` back along `ray`; `weight` is the product of the reflection and
     /// transmission factors that brought the camera ray here.
-    fn shade(
+    fn shade<const ALL: bool>(
         &self,
         ray: &Ray,
         hit: &Interaction,
@@ -93,7 +131,12 @@ impl<'a> Whitted<'a> {
         weight: f32,
         counts: &mut RayCounts,
     ) -> Vec3 {
-        let m = self.scene.material_of(hit.object);
+        let index = self.scene.objects()[hit.object as usize].material;
+        let sh = Shading {
+            m: &self.scene.materials()[index as usize],
+            traits: self.analysis.material(index),
+        };
+        let m = sh.m;
         let s = &hit.surface;
         let wo = -ray.dir.normalize();
         // Shade the side the ray arrived on; `entering` tells refraction which way it goes.
@@ -102,16 +145,19 @@ impl<'a> Whitted<'a> {
         let ns = m.shading_normal(s.ns, s.ng, s.p);
         let (ng, ns) = if entering { (s.ng, ns) } else { (-s.ng, -ns) };
         let kd = m.diffuse.eval(s.p, s.uv);
-        let mut l = m.emission + self.scene.settings().ambient * kd;
-        if self.effects.shadows && m.is_lit() {
-            l += self.direct(m, kd, s, ng, ns, wo, counts);
+        // Starting from +0 keeps every sum identical whether or not a zero term is added.
+        let mut l = Vec3::ZERO;
+        if ALL || sh.traits.emits {
+            l += m.emission;
         }
+        l += self.scene.settings().ambient * kd;
+        l += self.direct::<ALL>(&sh, kd, s, ng, ns, wo, counts);
         if depth >= self.max_depth {
             return l;
         }
         let dir = ray.dir.normalize();
         let mut mirror_weight = m.reflectivity;
-        if self.effects.refraction && m.transmits() {
+        if ALL || sh.traits.transmits {
             let eta = if entering {
                 self.medium_ior / m.ior
             } else {
@@ -120,31 +166,41 @@ impl<'a> Whitted<'a> {
             let fresnel = fresnel_dielectric(-dir.dot(ns), eta);
             mirror_weight += m.transmission * fresnel;
             let w = m.transmission * (1.0 - fresnel);
-            if let Some(t) = refract(dir, ns, eta).filter(|_| fresnel < 1.0)
-                && self.keep_branch(weight * w, counts)
-            {
-                counts.refraction += 1;
-                let r = Ray::new(s.spawn_origin(t, self.offset), t);
-                l += w * self.trace(&r, depth + 1, weight * w, counts);
+            match refract(dir, ns, eta) {
+                // Total internal reflection: there is no refracted ray to trace.
+                None => counts.not_traced.refraction.zero_weight += u64::from(!ALL),
+                Some(t) => {
+                    if self.keep_branch::<ALL>(w, weight * w, &mut counts.not_traced.refraction) {
+                        counts.refraction += 1;
+                        let r = Ray::new(s.spawn_origin(t, self.offset), t);
+                        l += w * self.trace::<ALL>(&r, depth + 1, weight * w, counts);
+                    }
+                }
             }
+        } else {
+            counts.not_traced.refraction.material += 1;
         }
-        if self.effects.reflection
-            && mirror_weight > 0.0
-            && self.keep_branch(weight * mirror_weight, counts)
-        {
+        if !ALL && !sh.traits.reflects {
+            counts.not_traced.reflection.material += 1;
+        } else if self.keep_branch::<ALL>(
+            mirror_weight,
+            weight * mirror_weight,
+            &mut counts.not_traced.reflection,
+        ) {
             counts.reflection += 1;
             let d = reflect(dir, ns);
             let r = Ray::new(s.spawn_origin(d, self.offset), d);
-            l += mirror_weight * self.trace(&r, depth + 1, weight * mirror_weight, counts);
+            l += mirror_weight * self.trace::<ALL>(&r, depth + 1, weight * mirror_weight, counts);
         }
         l
     }
 
-    /// Lambert + Phong from every light that a shadow ray finds unoccluded.
+    /// Lambert + Phong from every light that a shadow ray finds unoccluded. A shadow ray is
+    /// cast only when the light's unshadowed contribution is not exactly zero.
     #[allow(clippy::too_many_arguments)]
-    fn direct(
+    fn direct<const ALL: bool>(
         &self,
-        m: &Material,
+        sh: &Shading,
         kd: Vec3,
         s: &SurfacePoint,
         ng: Vec3,
@@ -152,12 +208,29 @@ impl<'a> Whitted<'a> {
         wo: Vec3,
         counts: &mut RayCounts,
     ) -> Vec3 {
+        let lights = self.scene.lights();
+        let skips = &mut counts.not_traced.shadow;
+        if !ALL && !sh.traits.lit {
+            skips.material_unlit += lights.len() as u64;
+            return Vec3::ZERO;
+        }
         let mut l = Vec3::ZERO;
-        for light in self.scene.lights() {
+        for (light, &reachable) in lights.iter().zip(&self.analysis.lights_reachable) {
+            if !ALL && !reachable {
+                counts.not_traced.shadow.dark_light += 1;
+                continue;
+            }
             let ls = light.sample(s.p);
-            let cos = ns.dot(ls.wi);
-            // Lights behind the shading normal or below the geometric surface contribute nothing.
-            if cos <= 0.0 || ng.dot(ls.wi) <= 0.0 {
+            let c = self.unshadowed::<ALL>(sh, kd, ng, ns, wo, &ls);
+            if !ALL && c == Vec3::ZERO {
+                let skips = &mut counts.not_traced.shadow;
+                if ns.dot(ls.wi) <= 0.0 || ng.dot(ls.wi) <= 0.0 {
+                    skips.back_facing += 1;
+                } else if light.is_spot() && ls.irradiance == Vec3::ZERO {
+                    skips.outside_cone += 1;
+                } else {
+                    skips.zero_contribution += 1;
+                }
                 continue;
             }
             let origin = s.spawn_origin(ls.wi, self.offset);
@@ -168,22 +241,36 @@ impl<'a> Whitted<'a> {
                 f32::INFINITY
             };
             counts.shadow += 1;
-            if self.scene.occluded(
+            if !self.scene.occluded(
                 self.accel,
                 &Ray::segment(origin, ls.wi, t_max),
                 &mut counts.traversal,
             ) {
-                continue;
+                l += c;
             }
-            let mut f = kd * std::f32::consts::FRAC_1_PI;
-            if m.shininess > 0.0 && m.specular != Vec3::ZERO {
-                let cos_r = reflect(-ls.wi, ns).dot(wo).max(0.0);
-                f += m.specular
-                    * ((m.shininess + 2.0) * 0.5 * std::f32::consts::FRAC_1_PI)
-                    * cos_r.powf(m.shininess);
-            }
-            l += f * ls.irradiance * cos;
         }
         l
+    }
+
+    /// What light sample `ls` adds at a point if nothing blocks it. The Whitted BRDF reflects
+    /// only: light from behind the shading normal or below the geometric surface adds nothing.
+    fn unshadowed<const ALL: bool>(
+        &self,
+        sh: &Shading,
+        kd: Vec3,
+        ng: Vec3,
+        ns: Vec3,
+        wo: Vec3,
+        ls: &LightSample,
+    ) -> Vec3 {
+        let cos = ns.dot(ls.wi);
+        if cos <= 0.0 || ng.dot(ls.wi) <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let mut f = kd * std::f32::consts::FRAC_1_PI;
+        if ALL || sh.traits.phong {
+            f += sh.m.phong(ls.wi, wo, ns);
+        }
+        f * ls.irradiance * cos
     }
 }

@@ -28,6 +28,18 @@ pub use self::exr::{
 };
 pub use self::png::write_png;
 
+/// Writes `text` to `path` atomically (a report beside the images, e.g. `--stats-json`).
+pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
+    use std::io::Write as _;
+    write_atomically(path, |w| {
+        w.write_all(text.as_bytes())
+            .map_err(|source| OutputError::Write {
+                path: path.to_path_buf(),
+                source,
+            })
+    })
+}
+
 /// Why an image could not be written. Every variant names the target path.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {

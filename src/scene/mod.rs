@@ -1,5 +1,5 @@
 //! The scene: geometry, the objects that own it, materials, lights, camera and render settings,
-//! plus ray queries through an accelerator and the analysis of which effects it calls for.
+//! plus ray queries through an accelerator.
 //!
 //! Loaders (one per file format, in the submodules) build a `Scene` through [`SceneBuilder`];
 //! [`load`] picks the loader from the file extension.
@@ -216,34 +216,6 @@ impl Scene {
             accel.occluded(ray, stats, |p, r| test(p, r).is_some())
         })
     }
-
-    /// Which ray kinds this scene can ever spawn; the integrator skips the rest.
-    pub fn effects(&self) -> Effects {
-        let used = |f: &dyn Fn(&Material) -> bool| {
-            self.objects
-                .iter()
-                .any(|o| f(&self.materials[o.material as usize]))
-        };
-        Effects {
-            shadows: !self.lights.is_empty() && used(&Material::is_lit),
-            reflection: self.settings.max_depth > 0 && used(&Material::reflects),
-            refraction: self.settings.max_depth > 0 && used(&Material::transmits),
-            depth_of_field: self.camera.has_depth_of_field(),
-        }
-    }
-}
-
-/// The effects a scene calls for. Whatever is false here is never simulated.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Effects {
-    /// Some lit material and at least one light: shadow rays are traced.
-    pub shadows: bool,
-    /// Some material reflects (mirror or Fresnel): reflection rays are traced.
-    pub reflection: bool,
-    /// Some material transmits: refraction rays are traced.
-    pub refraction: bool,
-    /// The camera has a lens aperture.
-    pub depth_of_field: bool,
 }
 
 /// Assembles a [`Scene`], checking every reference as it goes.
