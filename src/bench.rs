@@ -147,7 +147,12 @@ pub fn measure(
         };
         let accel = Accel::build(config.accel, &scene.geometry().prim_bounds(), &opts)
             .with_traversal(config.traversal);
-        let out = render(scene, &accel, &RenderOptions::default())?;
+        // Like the original's TGA, Table I's image has no depth/normal/id layers to trace.
+        let opts = RenderOptions {
+            aov_layers: false,
+            ..RenderOptions::default()
+        };
+        let out = render(scene, &accel, &opts)?;
         times.push(start.elapsed().as_secs_f64());
         last = Some(out);
     }

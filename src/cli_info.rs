@@ -64,13 +64,10 @@ fn describe(path: &Path, scene: &Scene) -> String {
         "render: {}x{}, {}x{} samples, max depth {}, ambient {}, background {}",
         st.width, st.height, st.spp, st.spp, st.max_depth, st.ambient, st.background
     );
-    // What a render would decide; AOV rays depend on the output, so assume an EXR is written.
-    let analysis = Analysis::new(scene, EffectMode::Auto, true);
+    // What a render would decide; AOV rays depend on the output, not on the scene.
+    let mut analysis = Analysis::new(scene, EffectMode::Auto, true);
+    analysis.aov.reason = "when an EXR is written (a PNG-only render traces none)".into();
     s += &effects_text(&analysis, None);
-    let _ = writeln!(
-        s,
-        "  (aov rays are traced only when an EXR is written: a PNG-only render traces none)"
-    );
     let _ = writeln!(s, "warnings: {}", scene.warnings().len());
     for w in scene.warnings() {
         let _ = writeln!(s, "  {w}");

@@ -7,6 +7,7 @@
 pub mod accel;
 pub mod bench;
 pub mod bench_accuracy;
+pub mod bench_effects;
 pub mod bench_load;
 pub mod camera;
 pub mod effects;

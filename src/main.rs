@@ -53,6 +53,9 @@ enum BenchCommand {
     /// Error against a converged reference vs render time for every accuracy knob, one axis
     /// at a time from the defaults; CSV and a plot.
     Accuracy(cli_bench::AccuracyArgs),
+    /// What the effect decisions save: time and rays by kind of the default render against
+    /// `--effects all`, per scene, in the same run.
+    Effects(cli_bench::EffectsArgs),
     /// One load, for `bench load`'s child processes: prints seconds and peak bytes.
     #[command(hide = true)]
     LoadOne {
@@ -129,6 +132,7 @@ fn main() {
         Some(Command::Bench(BenchCommand::Paper(args))) => cli_bench::run_paper(args),
         Some(Command::Bench(BenchCommand::Load(args))) => cli_bench::run_load(args),
         Some(Command::Bench(BenchCommand::Accuracy(args))) => cli_bench::run_accuracy(args),
+        Some(Command::Bench(BenchCommand::Effects(args))) => cli_bench::run_effects(args),
         Some(Command::Bench(BenchCommand::LoadOne { file })) => cli_bench::run_load_one(file),
         Some(Command::Info { file }) => cli_info::run_info(file),
         Some(Command::Hits(args)) => cli_hits::run_hits(args),

@@ -136,7 +136,8 @@ impl Analysis {
             } else if n == 0 {
                 Decision::new(false, format!("no material {verb}s"))
             } else {
-                Decision::new(true, format!("{} {verb}", of(n)))
+                let s = if n == 1 { "s" } else { "" };
+                Decision::new(true, format!("{} {verb}{s}", of(n)))
             })
         };
         let reflection = bounce("reflect", count(&Material::reflects));
