@@ -2,6 +2,7 @@
 //! bit of the image (against `--effects all`, which traces everything), and every effect a
 //! scene lacks costs zero rays.
 
+mod bench;
 mod identical;
 mod levels;
 mod stats_json;
