@@ -5,6 +5,7 @@ use lumis::camera::Lens;
 use lumis::light::Light;
 use lumis::material::Texture;
 use lumis::math::Vec3;
+use lumis::output::DisplayTransform;
 use lumis::scene::{load, parse_scn};
 use std::path::Path;
 
@@ -96,6 +97,39 @@ fn scn_renders_through_the_cli() {
         .unwrap();
     assert!(status.success());
     assert!(out.is_file());
+}
+
+/// Renders `scn` text (written to a temporary folder) through the CLI at 8x6 and returns the
+/// PNG's pixels.
+fn render_scn_png(scn: &str, extra: &[&str]) -> Vec<[u8; 3]> {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, out) = (dir.path().join("s.scn"), dir.path().join("s.png"));
+    std::fs::write(&path, scn).unwrap();
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_lumis"))
+        .args(["render", "-q", "--width", "8", "--height", "6"])
+        .args(extra)
+        .arg(&path)
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let img = image::open(&out).unwrap().to_rgb8();
+    img.pixels().map(|p| p.0).collect()
+}
+
+#[test]
+fn scn_png_is_clamped_without_a_transfer_curve() {
+    let st = parse_scn("", Path::new("d.scn")).unwrap();
+    assert_eq!(st.settings().display, DisplayTransform::Clamp);
+    // A white FlatColor sphere fills the view and no light shines: every pixel is the
+    // original's ambient 0.2 x colour = 0.2 linear, which the original writes as 0.2 x 255 = 51.
+    let scn = "cameraPosition 0 0 100\ncameraLookAt 0 0 0\ncameraScreenWidth 4\n\
+               sphere 0 0 0 50 FlatColor 1 1 1 null\n";
+    assert!(render_scn_png(scn, &[]).iter().all(|p| *p == [51; 3]));
+    // The flag overrides the format's default: sRGB encodes 0.2 as 124.
+    let srgb = render_scn_png(scn, &["--display", "srgb"]);
+    assert!(srgb.iter().all(|p| *p == [124; 3]), "{:?}", srgb[0]);
 }
 
 fn error_of(text: &str) -> String {

@@ -10,7 +10,9 @@
 //!
 //! Defaults when a statement is missing: camera at the origin looking down -z with up +y,
 //! `cameraScreenWidth 1920`, no depth of field, `maxReflections 5`, 1920x1080, 1 sample,
-//! `depthComplexity 5` lens rays per sample.
+//! `depthComplexity 5` lens rays per sample. The PNG is written with
+//! [`DisplayTransform::Clamp`] (colour x 255, clamped, no transfer curve) as the original writes
+//! its TGA.
 
 use super::mesh_m::{MeshMError, load_m_file};
 use super::{Scene, SceneBuilder};
@@ -19,6 +21,7 @@ use crate::geometry::{Mesh, Sphere};
 use crate::light::Light;
 use crate::material::{Material, Texture};
 use crate::math::{Aabb, Mat4, Vec3};
+use crate::output::DisplayTransform;
 use crate::texture::NormalMap;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -86,6 +89,8 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
     ) = (1920, 1080, 1, 5, Vec3::splat(0.2), 5);
     // The original traces every reflection and refraction branch: no contribution cutoff.
     st.cutoff = 0.0;
+    // The original writes colour x 255, clamped: its images are display-referred.
+    st.display = DisplayTransform::Clamp;
     let mut cam = CameraSpec::default();
     let mut count = 0usize;
     while let Some((line, keyword)) = p.next() {
