@@ -99,6 +99,36 @@ fn scn_renders_through_the_cli() {
     assert!(out.is_file());
 }
 
+#[test]
+fn missing_statements_take_the_originals_defaults() {
+    let scene = parse_scn(
+        "sphere 0 0 -10 1 FlatColor 1 1 1 null\n",
+        Path::new("d.scn"),
+    )
+    .unwrap();
+    let st = scene.settings();
+    // The original's main: maxReflections 10; its constructor: dispersion 5 (depth of field on,
+    // with the paper's 5 lens rays); its TGA: colour x 255, clamped.
+    assert_eq!((st.max_depth, st.lens_samples), (10, 5));
+    assert_eq!((st.width, st.height, st.spp), (1920, 1080, 1));
+    assert_eq!(st.display, DisplayTransform::Clamp);
+    assert_eq!(st.cutoff, 0.0);
+    assert_eq!(scene.camera().lens(), Lens::Square(5.0));
+    assert!(scene.camera().has_depth_of_field());
+    // A negative dispersion is a pinhole; 0 (N identical rays in the original) is one too.
+    for text in [
+        "dispersion -1\n",
+        "dispersion 0\n",
+        "dispersion 3\ndispersion -0.5\n",
+    ] {
+        let scene = parse_scn(text, Path::new("d.scn")).unwrap();
+        assert_eq!(scene.camera().lens(), Lens::Pinhole, "{text:?}");
+    }
+    let scene = parse_scn("maxReflections 2\ndispersion 0.5\n", Path::new("d.scn")).unwrap();
+    assert_eq!(scene.settings().max_depth, 2);
+    assert_eq!(scene.camera().lens(), Lens::Square(0.5));
+}
+
 /// Renders `scn` text (written to a temporary folder) through the CLI at 8x6 and returns the
 /// PNG's pixels.
 fn render_scn_png(scn: &str, extra: &[&str]) -> Vec<[u8; 3]> {
@@ -120,8 +150,6 @@ fn render_scn_png(scn: &str, extra: &[&str]) -> Vec<[u8; 3]> {
 
 #[test]
 fn scn_png_is_clamped_without_a_transfer_curve() {
-    let st = parse_scn("", Path::new("d.scn")).unwrap();
-    assert_eq!(st.settings().display, DisplayTransform::Clamp);
     // A white FlatColor sphere fills the view and no light shines: every pixel is the
     // original's ambient 0.2 x colour = 0.2 linear, which the original writes as 0.2 x 255 = 51.
     let scn = "cameraPosition 0 0 100\ncameraLookAt 0 0 0\ncameraScreenWidth 4\n\
