@@ -31,6 +31,9 @@
 //! - it gives every refracted ray a recursion budget of 1 whatever is left, so glass can cut
 //!   internal reflections short and never stops a chain of refractions (lumis counts each
 //!   refraction as a bounce against `maxReflections`).
+//!
+//! The noise textures follow the original's formulas (see [`Texture`]) over lumis's own
+//! Perlin noise, so they look alike but are not the same pixels.
 
 use super::mesh_m::{MeshMError, load_m_file};
 use super::scn_camera::CameraSpec;
@@ -318,7 +321,13 @@ impl<'a> Parser<'a> {
                     self.positive("texture scale")?,
                 );
                 let t = match kind {
-                    "Checkerboard" => Texture::Checkerboard { a, b: b_, scale },
+                    // `from_scn_scale` below moves the grid to the original's corner.
+                    "Checkerboard" => Texture::Checkerboard {
+                        a,
+                        b: b_,
+                        scale,
+                        origin: Vec3::ZERO,
+                    },
                     "Turbulence" => Texture::Turbulence { a, b: b_, scale },
                     "Marble" => Texture::Marble { a, b: b_, scale },
                     _ => Texture::Wood { a, b: b_, scale },
