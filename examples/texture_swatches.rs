@@ -22,7 +22,13 @@ fn fit(t: Texture, sphere_diameter: f32) -> Texture {
     let s = t.scale().unwrap_or(1.0) * EXTENT / sphere_diameter;
     match t {
         Texture::Solid(_) | Texture::Image { .. } => t,
-        Texture::Checkerboard { a, b, .. } => Texture::Checkerboard { a, b, scale: s },
+        Texture::Checkerboard { a, b, origin, .. } => Texture::Checkerboard {
+            a,
+            b,
+            scale: s,
+            // Shrunk with the cells, so the grid keeps its phase.
+            origin: origin * EXTENT / sphere_diameter,
+        },
         Texture::Turbulence { a, b, .. } => Texture::Turbulence { a, b, scale: s },
         Texture::Marble { a, b, .. } => Texture::Marble { a, b, scale: s },
         Texture::Wood { a, b, .. } => Texture::Wood { a, b, scale: s },
@@ -60,6 +66,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     a: rgb(0.3, 0.2, 0.1),
                     b: rgb(0.7, 0.8, 0.9),
                     scale: 50.0,
+                    origin: Vec3::ZERO,
                 },
                 200.0,
             )),

@@ -108,6 +108,10 @@ struct RenderArgs {
     /// Write 32-bit float RGBA to EXR instead of half.
     #[arg(long)]
     float: bool,
+    /// PNG encoding: the sRGB curve, or clamp (value x 255, no curve, as the paper's program).
+    /// Default: the scene's `display`, else srgb (clamp for .scn scenes). EXR stays linear.
+    #[arg(long, value_enum)]
+    display: Option<lumis::output::DisplayTransform>,
     /// No progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
@@ -170,6 +174,7 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     st.height = args.height.unwrap_or(st.height);
     st.spp = args.spp.unwrap_or(st.spp);
     st.max_depth = args.max_depth.unwrap_or(st.max_depth);
+    st.display = args.display.unwrap_or(st.display);
     args.accuracy.apply(st)?;
     args.cutoff.apply(st)?;
     let choice = args.accel.validated()?;
@@ -206,6 +211,7 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             scene.camera(),
             &meta,
             scene.settings().exposure,
+            scene.settings().display,
         )?;
     }
     times.write = t.elapsed();

@@ -11,8 +11,8 @@ use lumis::camera::Camera;
 use lumis::film::{Film, PixelAov};
 use lumis::math::{Vec2, Vec3, Vec4};
 use lumis::output::{
-    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ExrMetadata, OutputError, write_by_extension,
-    write_exr, write_png,
+    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, DisplayTransform, ExrMetadata, OutputError,
+    write_by_extension, write_exr, write_png,
 };
 
 const W: u32 = 7;
@@ -288,7 +288,7 @@ fn directory_target_fails_without_leftovers() {
     std::fs::create_dir(&target).unwrap();
     for result in [
         write_exr(&target, &film(), &camera(), &meta(false)),
-        write_png(&target, &film(), 0.0),
+        write_png(&target, &film(), 0.0, DisplayTransform::Srgb),
     ] {
         let err = result.unwrap_err();
         assert!(matches!(err, OutputError::Persist { .. }), "{err:?}");
@@ -308,7 +308,15 @@ fn failed_encoding_leaves_existing_file_intact() {
     ] {
         let path = dir.path().join(name);
         std::fs::write(&path, b"previous render").unwrap();
-        let err = write_by_extension(&path, &film, &camera(), &meta(false), 0.0).unwrap_err();
+        let err = write_by_extension(
+            &path,
+            &film,
+            &camera(),
+            &meta(false),
+            0.0,
+            DisplayTransform::Srgb,
+        )
+        .unwrap_err();
         assert!(matches!(err, OutputError::EmptyFilm { .. }), "{err:?}");
         assert!(err.to_string().contains(name), "{err}");
         assert_eq!(std::fs::read(&path).unwrap(), b"previous render");
@@ -334,16 +342,33 @@ fn extension_dispatch() {
     let dir = tempfile::tempdir().unwrap();
     let (film, cam, meta) = (film(), camera(), meta(false));
     for name in ["a.EXR", "b.Exr"] {
-        write_by_extension(&dir.path().join(name), &film, &cam, &meta, 0.0).unwrap();
+        write_by_extension(
+            &dir.path().join(name),
+            &film,
+            &cam,
+            &meta,
+            0.0,
+            DisplayTransform::Srgb,
+        )
+        .unwrap();
         read_exr(&dir.path().join(name));
     }
-    write_by_extension(&dir.path().join("c.PNG"), &film, &cam, &meta, 0.0).unwrap();
+    write_by_extension(
+        &dir.path().join("c.PNG"),
+        &film,
+        &cam,
+        &meta,
+        0.0,
+        DisplayTransform::Srgb,
+    )
+    .unwrap();
     let png = image::open(dir.path().join("c.PNG")).unwrap();
     assert_eq!((png.width(), png.height()), (W, H));
 
     for name in ["d.jpg", "noext", "e.exr.tmp"] {
         let path = dir.path().join(name);
-        let err = write_by_extension(&path, &film, &cam, &meta, 0.0).unwrap_err();
+        let err =
+            write_by_extension(&path, &film, &cam, &meta, 0.0, DisplayTransform::Srgb).unwrap_err();
         assert!(matches!(err, OutputError::UnsupportedExtension { .. }));
         assert!(err.to_string().contains(name), "{err}");
     }

@@ -1,8 +1,10 @@
 //! The paper's own scenes (read at run time from `../shared/paper-scenes`, never copied here):
-//! all 15 load, and every (accelerator x traversal) renders each to exactly the bits that
-//! brute force renders. CI sets `LUMIS_REQUIRE_PAPER_SCENES=1` so a missing folder fails there.
+//! all 15 load with the original's defaults for what they leave out, and every (accelerator x
+//! traversal) renders each to exactly the bits that brute force renders. CI sets
+//! `LUMIS_REQUIRE_PAPER_SCENES=1` so a missing folder fails there.
 
 use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
+use lumis::camera::Lens;
 use lumis::film::Film;
 use lumis::render::{RenderOptions, render};
 use lumis::scene::{Scene, load};
@@ -61,6 +63,44 @@ fn render_with(scene: &Scene, kind: AccelKind, traversal: Traversal) -> Film {
     )
     .unwrap()
     .film
+}
+
+/// The last value a scene file gives `keyword` (the last statement wins), read here without
+/// lumis's parser: tokens up to a `#` on each line.
+fn last_value(text: &str, keyword: &str) -> Option<f32> {
+    let tokens: Vec<&str> = text
+        .lines()
+        .flat_map(|l| l.split_whitespace().take_while(|t| !t.starts_with('#')))
+        .collect();
+    tokens
+        .windows(2)
+        .filter(|w| w[0] == keyword)
+        .filter_map(|w| w[1].parse().ok())
+        .next_back()
+}
+
+#[test]
+fn paper_scenes_take_the_originals_defaults() {
+    let mut with_dof = 0;
+    for file in paper_scenes() {
+        let text = std::fs::read_to_string(&file).unwrap();
+        let scene = load(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let st = scene.settings();
+        // Without the statement the original recurses 10 times and jitters the lens by 5.
+        let depth = last_value(&text, "maxReflections").unwrap_or(10.0);
+        assert_eq!(st.max_depth as f32, depth, "{}", file.display());
+        let lens = match last_value(&text, "dispersion").unwrap_or(5.0) {
+            d if d > 0.0 => Lens::Square(d),
+            _ => Lens::Pinhole,
+        };
+        assert_eq!(scene.camera().lens(), lens, "{}", file.display());
+        assert_eq!(st.lens_samples, 5, "{}", file.display());
+        with_dof += scene.camera().has_depth_of_field() as usize;
+    }
+    // Only ballsOnAPlaneClose (dispersion 0) is a pinhole among the 15.
+    if with_dof > 0 {
+        assert_eq!(with_dof, 14);
+    }
 }
 
 #[test]

@@ -1,11 +1,11 @@
-//! `output::write_png` read back with the image crate: size, colour type, sRGB code values
-//! and exposure.
+//! `output::write_png` read back with the image crate: size, colour type, the code values of
+//! both display transforms (sRGB curve, plain clamp) and exposure.
 
 use std::path::Path;
 
 use lumis::film::{Film, PixelAov};
 use lumis::math::Vec4;
-use lumis::output::{OutputError, write_png};
+use lumis::output::{DisplayTransform, OutputError, write_png};
 
 fn dir_entries(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
@@ -30,7 +30,7 @@ fn png_srgb_encoding_and_exposure() {
 
     let path = dir.path().join("out.png");
     let read_back = |stops: f32| {
-        write_png(&path, &film, stops).unwrap();
+        write_png(&path, &film, stops, DisplayTransform::Srgb).unwrap();
         let img = image::open(&path).unwrap();
         assert_eq!(img.color(), image::ColorType::Rgb8, "RGB8, no alpha");
         assert_eq!((img.width(), img.height()), (5, 2));
@@ -51,6 +51,31 @@ fn png_srgb_encoding_and_exposure() {
     assert_eq!(read_back(-1.0).get_pixel(1, 0).0, [188, 188, 188]);
     assert_eq!(dir_entries(dir.path()), ["out.png"]);
 
-    let err = write_png(&path, &film, f32::NAN).unwrap_err();
+    let err = write_png(&path, &film, f32::NAN, DisplayTransform::Clamp).unwrap_err();
     assert!(matches!(err, OutputError::BadExposure { .. }), "{err:?}");
+}
+
+#[test]
+fn png_clamp_encoding_has_no_transfer_curve() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("clamp.png");
+    let mut film = Film::new(6, 1);
+    // Known linear values and their codes: round(clamp(v) * 255), no curve (sRGB would give
+    // 0, 124, 188, 137 for the first four).
+    let linear = [0.0, 0.2, 0.5, 0.25, 1.5, -0.5];
+    for (x, v) in linear.into_iter().enumerate() {
+        let alpha = if x == 3 { 0.5 } else { 1.0 };
+        film.set(x as u32, 0, Vec4::new(v, v, v, alpha), PixelAov::MISS);
+    }
+    let row = |stops: f32| -> Vec<u8> {
+        write_png(&path, &film, stops, DisplayTransform::Clamp).unwrap();
+        let img = image::open(&path).unwrap().to_rgb8();
+        (0..6).map(|x| img.get_pixel(x, 0)[1]).collect()
+    };
+    assert_eq!(row(0.0), [0, 51, 128, 64, 255, 0]);
+    // Exposure applies before the clamp: +1 stop doubles 0.2 to 0.4 -> 102.
+    assert_eq!(row(1.0), [0, 102, 255, 128, 255, 0]);
+    write_png(&path, &film, 0.0, DisplayTransform::Srgb).unwrap();
+    let img = image::open(&path).unwrap().to_rgb8();
+    assert_eq!(img.get_pixel(1, 0).0, [124, 124, 124]);
 }

@@ -337,6 +337,25 @@ fn unknown_extension_is_an_error() {
 }
 
 #[test]
+fn render_display_key_picks_the_png_encoding() {
+    use lumis::output::DisplayTransform;
+    let display = |text: &str| load(&format!("{text}{CAMERA}")).unwrap().settings().display;
+    assert_eq!(display(""), DisplayTransform::Srgb);
+    assert_eq!(
+        display("[render]\ndisplay = \"srgb\"\n"),
+        DisplayTransform::Srgb
+    );
+    assert_eq!(
+        display("[render]\ndisplay = \"clamp\"\n"),
+        DisplayTransform::Clamp
+    );
+    expect_err(
+        "[render]\ndisplay = \"linear\"\n",
+        &["render", "display", "srgb or clamp"],
+    );
+}
+
+#[test]
 fn documented_example_loads() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let doc = std::fs::read_to_string(root.join("docs/scene-format.md")).unwrap();

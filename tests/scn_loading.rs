@@ -5,6 +5,7 @@ use lumis::camera::Lens;
 use lumis::light::Light;
 use lumis::material::Texture;
 use lumis::math::Vec3;
+use lumis::output::DisplayTransform;
 use lumis::scene::{load, parse_scn};
 use std::path::Path;
 
@@ -96,6 +97,67 @@ fn scn_renders_through_the_cli() {
         .unwrap();
     assert!(status.success());
     assert!(out.is_file());
+}
+
+#[test]
+fn missing_statements_take_the_originals_defaults() {
+    let scene = parse_scn(
+        "sphere 0 0 -10 1 FlatColor 1 1 1 null\n",
+        Path::new("d.scn"),
+    )
+    .unwrap();
+    let st = scene.settings();
+    // The original's main: maxReflections 10; its constructor: dispersion 5 (depth of field on,
+    // with the paper's 5 lens rays); its TGA: colour x 255, clamped.
+    assert_eq!((st.max_depth, st.lens_samples), (10, 5));
+    assert_eq!((st.width, st.height, st.spp), (1920, 1080, 1));
+    assert_eq!(st.display, DisplayTransform::Clamp);
+    assert_eq!(st.cutoff, 0.0);
+    assert_eq!(scene.camera().lens(), Lens::Square(5.0));
+    assert!(scene.camera().has_depth_of_field());
+    // A negative dispersion is a pinhole; 0 (N identical rays in the original) is one too.
+    for text in [
+        "dispersion -1\n",
+        "dispersion 0\n",
+        "dispersion 3\ndispersion -0.5\n",
+    ] {
+        let scene = parse_scn(text, Path::new("d.scn")).unwrap();
+        assert_eq!(scene.camera().lens(), Lens::Pinhole, "{text:?}");
+    }
+    let scene = parse_scn("maxReflections 2\ndispersion 0.5\n", Path::new("d.scn")).unwrap();
+    assert_eq!(scene.settings().max_depth, 2);
+    assert_eq!(scene.camera().lens(), Lens::Square(0.5));
+}
+
+/// Renders `scn` text (written to a temporary folder) through the CLI at 8x6 and returns the
+/// PNG's pixels.
+fn render_scn_png(scn: &str, extra: &[&str]) -> Vec<[u8; 3]> {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, out) = (dir.path().join("s.scn"), dir.path().join("s.png"));
+    std::fs::write(&path, scn).unwrap();
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_lumis"))
+        .args(["render", "-q", "--width", "8", "--height", "6"])
+        .args(extra)
+        .arg(&path)
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let img = image::open(&out).unwrap().to_rgb8();
+    img.pixels().map(|p| p.0).collect()
+}
+
+#[test]
+fn scn_png_is_clamped_without_a_transfer_curve() {
+    // A white FlatColor sphere fills the view and no light shines: every pixel is the
+    // original's ambient 0.2 x colour = 0.2 linear, which the original writes as 0.2 x 255 = 51.
+    let scn = "cameraPosition 0 0 100\ncameraLookAt 0 0 0\ncameraScreenWidth 4\n\
+               sphere 0 0 0 50 FlatColor 1 1 1 null\n";
+    assert!(render_scn_png(scn, &[]).iter().all(|p| *p == [51; 3]));
+    // The flag overrides the format's default: sRGB encodes 0.2 as 124.
+    let srgb = render_scn_png(scn, &["--display", "srgb"]);
+    assert!(srgb.iter().all(|p| *p == [124; 3]), "{:?}", srgb[0]);
 }
 
 fn error_of(text: &str) -> String {

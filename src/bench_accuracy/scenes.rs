@@ -102,6 +102,7 @@ pub fn far_occluder() -> Scene {
             a: Vec3::splat(0.7),
             b: Vec3::splat(0.35),
             scale: 8.0,
+            origin: Vec3::ZERO,
         },
         ..Material::default()
     });
@@ -156,6 +157,7 @@ pub fn far_spheres() -> Scene {
             a: Vec3::splat(0.8),
             b: Vec3::new(0.2, 0.3, 0.5),
             scale: 1.0,
+            origin: Vec3::ZERO,
         },
         ..Material::default()
     });

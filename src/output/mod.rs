@@ -9,10 +9,12 @@
 //! [output]
 //! path = "render.exr"   # .exr or .png, chosen by extension (case-insensitive)
 //! float_rgba = false    # EXR only: f32 instead of half for R, G, B, A
-//! exposure = 0.0        # PNG only: stops applied before the sRGB transfer function
+//! exposure = 0.0        # PNG only: stops applied before the display transform
+//! display = "srgb"      # PNG only: "srgb" transfer curve or "clamp" (value x 255)
 //! ```
 
 mod atomic;
+mod display;
 
 pub(crate) use self::atomic::write_atomically;
 mod exr;
@@ -23,6 +25,7 @@ use std::path::{Path, PathBuf};
 use crate::camera::Camera;
 use crate::film::Film;
 
+pub use self::display::{DisplayTransform, linear_to_srgb8};
 pub use self::exr::{
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ExrMetadata, SOFTWARE, imath_m44f, write_exr,
 };
@@ -118,13 +121,14 @@ pub enum OutputError {
 
 /// Writes `film` as OpenEXR (`.exr`) or PNG (`.png`) depending on the extension of `path`,
 /// compared case-insensitively. `meta` and `camera` are used only for EXR, `exposure_stops`
-/// only for PNG.
+/// and `display` only for PNG (the EXR stays linear).
 pub fn write_by_extension(
     path: &Path,
     film: &Film,
     camera: &Camera,
     meta: &ExrMetadata,
     exposure_stops: f32,
+    display: DisplayTransform,
 ) -> Result<(), OutputError> {
     let ext = path
         .extension()
@@ -132,7 +136,7 @@ pub fn write_by_extension(
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("exr") => write_exr(path, film, camera, meta),
-        Some("png") => write_png(path, film, exposure_stops),
+        Some("png") => write_png(path, film, exposure_stops, display),
         _ => Err(OutputError::UnsupportedExtension {
             path: path.to_path_buf(),
         }),

@@ -13,6 +13,7 @@ mod mtl;
 mod obj;
 mod obj_scan;
 mod scn;
+mod scn_camera;
 mod settings;
 mod toml;
 mod toml_schema;

@@ -8,17 +8,41 @@
 //!   and the Phong colour is `2 / (n + 2)` so lumis's normalised lobe peaks at exactly 1;
 //! - `reflectivity` → mirror weight; `Glass` → transmission 1 with Fresnel, no diffuse.
 //!
-//! Defaults when a statement is missing: camera at the origin looking down -z with up +y,
-//! `cameraScreenWidth 1920`, no depth of field, `maxReflections 5`, 1920x1080, 1 sample,
-//! `depthComplexity 5` lens rays per sample.
+//! Defaults when a statement is missing, the original's (its `main` and `RayTracer`
+//! constructor): camera at the origin looking down -z with up +y, `cameraScreenWidth 1920`,
+//! `maxReflections 10`, `dispersion 5` (so depth of field is on), 1920x1080, 1 sample,
+//! `depthComplexity 5` lens rays per sample (the original takes it from its command line; the
+//! paper used 5). A negative `dispersion` turns depth of field off (a pinhole, one ray per
+//! sample); `dispersion 0` makes the original trace `depthComplexity` identical rays, for which
+//! lumis traces one pinhole ray: the image is the same. The PNG is written with
+//! [`DisplayTransform::Clamp`] (colour x 255, clamped, no transfer curve) as the original writes
+//! its TGA; the contribution cutoff is 0 as the original traces every branch.
+//!
+//! Known defects of the original that lumis does not copy (each found by rebuilding the
+//! original with that one thing changed):
+//! - it multiplies the running diffuse sum by each light's intensity (`sum = (sum + colour *
+//!   cos) * I`), so a light's diffuse term is scaled again by every later light's intensity:
+//!   scenes with several lights come out too dark (intensities below 1) or too bright;
+//! - it reflects a position (the incoming ray's origin, the hit point of the previous bounce)
+//!   about the normal instead of the ray direction, so mirrors show the wrong part of the scene;
+//! - its median split (the BSMP variant) puts a primitive whose centroid lies exactly on the
+//!   split value into neither child: one object vanishes from ballsInAPit and tumbledStones;
+//! - its lens jitter moves the ray origin along world x and y instead of the camera's axes;
+//! - it gives every refracted ray a recursion budget of 1 whatever is left, so glass can cut
+//!   internal reflections short and never stops a chain of refractions (lumis counts each
+//!   refraction as a bounce against `maxReflections`).
+//!
+//! The noise textures follow the original's formulas (see [`Texture`]) over lumis's own
+//! Perlin noise, so they look alike but are not the same pixels.
 
 use super::mesh_m::{MeshMError, load_m_file};
+use super::scn_camera::CameraSpec;
 use super::{Scene, SceneBuilder};
-use crate::camera::{Camera, FovAxis, Lens};
 use crate::geometry::{Mesh, Sphere};
 use crate::light::Light;
 use crate::material::{Material, Texture};
 use crate::math::{Aabb, Mat4, Vec3};
+use crate::output::DisplayTransform;
 use crate::texture::NormalMap;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -83,9 +107,11 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
         st.max_depth,
         st.ambient,
         st.lens_samples,
-    ) = (1920, 1080, 1, 5, Vec3::splat(0.2), 5);
+    ) = (1920, 1080, 1, 10, Vec3::splat(0.2), 5);
     // The original traces every reflection and refraction branch: no contribution cutoff.
     st.cutoff = 0.0;
+    // The original writes colour x 255, clamped: its images are display-referred.
+    st.display = DisplayTransform::Clamp;
     let mut cam = CameraSpec::default();
     let mut count = 0usize;
     while let Some((line, keyword)) = p.next() {
@@ -173,50 +199,6 @@ fn place_model(mesh: Mesh, size: f32, offset: Vec3) -> Mesh {
         * Mat4::from_scale(Vec3::splat(size / diagonal))
         * Mat4::from_translation(-bounds.center());
     mesh.transformed(&m)
-}
-
-struct CameraSpec {
-    position: Vec3,
-    look_at: Vec3,
-    up: Vec3,
-    screen_width: f32,
-    dispersion: f32,
-}
-
-impl Default for CameraSpec {
-    fn default() -> Self {
-        Self {
-            position: Vec3::ZERO,
-            look_at: -Vec3::Z,
-            up: Vec3::Y,
-            screen_width: 1920.0,
-            dispersion: -1.0,
-        }
-    }
-}
-
-impl CameraSpec {
-    /// The original maps column x of W to `(x - W/2)/2 * (w/W)` on the image plane through the
-    /// look-at point: half the visible width there is `w / 4`.
-    fn build(&self) -> Result<Camera, crate::camera::CameraError> {
-        let distance = (self.look_at - self.position).length();
-        let half_fov = (self.screen_width * 0.25 / distance.max(f32::MIN_POSITIVE)).atan();
-        let lens = if self.dispersion > 0.0 {
-            Lens::Square(self.dispersion)
-        } else {
-            Lens::Pinhole
-        };
-        Ok(Camera::look_at(
-            self.position,
-            self.look_at,
-            self.up,
-            2.0 * half_fov.to_degrees(),
-            0.0,
-            None,
-        )?
-        .with_fov_axis(FovAxis::Horizontal)
-        .with_lens(lens))
-    }
 }
 
 struct Parser<'a> {
@@ -339,7 +321,13 @@ impl<'a> Parser<'a> {
                     self.positive("texture scale")?,
                 );
                 let t = match kind {
-                    "Checkerboard" => Texture::Checkerboard { a, b: b_, scale },
+                    // `from_scn_scale` below moves the grid to the original's corner.
+                    "Checkerboard" => Texture::Checkerboard {
+                        a,
+                        b: b_,
+                        scale,
+                        origin: Vec3::ZERO,
+                    },
                     "Turbulence" => Texture::Turbulence { a, b: b_, scale },
                     "Marble" => Texture::Marble { a, b: b_, scale },
                     _ => Texture::Wood { a, b: b_, scale },

@@ -3,6 +3,7 @@
 
 use crate::geometry::{Offset, Precision};
 use crate::math::Vec3;
+use crate::output::DisplayTransform;
 
 /// The default contribution cutoff: branches below 1% of the pixel are not traced. Measured
 /// in docs/accuracy.md (`lumis bench accuracy`): 0.79x the time of no cutoff for +0.3% relMSE,
@@ -39,6 +40,9 @@ pub struct Settings {
     /// traced (`cutoff`, `--cutoff`); 0 traces every branch up to `max_depth`. The default
     /// [`DEFAULT_CUTOFF`] sits at the knee of the measured curve (docs/accuracy.md).
     pub cutoff: f32,
+    /// How the PNG preview encodes linear values (`display`, `--display`): the sRGB curve by
+    /// default; `.scn` scenes clamp without a curve, as the paper's program writes its images.
+    pub display: DisplayTransform,
 }
 
 impl Default for Settings {
@@ -56,6 +60,7 @@ impl Default for Settings {
             precision: Precision::default(),
             offset: Offset::default(),
             cutoff: DEFAULT_CUTOFF,
+            display: DisplayTransform::Srgb,
         }
     }
 }

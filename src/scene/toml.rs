@@ -150,6 +150,10 @@ impl Loader<'_> {
                 Some(c) => crate::geometry::check_cutoff(c).map_err(|m| self.err(e, m))?,
                 None => d.cutoff,
             },
+            display: match &r.display {
+                Some(name) => name.parse().map_err(|m| self.err(e, m))?,
+                None => d.display,
+            },
             ..d
         };
         for (field, v) in [("width", settings.width), ("height", settings.height)] {

@@ -38,6 +38,7 @@ pub(super) struct RenderDoc {
     pub offset: Option<String>,
     pub epsilon: Option<f32>,
     pub cutoff: Option<f32>,
+    pub display: Option<String>,
 }
 
 /// `[camera]`.

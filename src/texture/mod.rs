@@ -36,17 +36,22 @@ use perlin::{noise, turbulence};
 pub enum Texture {
     /// One colour everywhere.
     Solid(Vec3),
-    /// 3-D checker of cubes with edge `scale`: `a` where `floor(x/s) + floor(y/s) + floor(z/s)`
-    /// is even, `b` where it is odd.
+    /// 3-D checker of cubes with edge `scale` and a corner at `origin`: with
+    /// `c = floor((p - origin) / s)`, `a` where `c.x + c.y + c.z` is even, `b` where it is odd.
     Checkerboard {
-        /// Colour of the even cells, including the cell `[0, scale)^3`.
+        /// Colour of the even cells, including the cell `origin + [0, scale)^3`.
         a: Vec3,
         /// Colour of the odd cells.
         b: Vec3,
         /// Cube edge length (world units).
         scale: f32,
+        /// A corner of the grid (world units); `.scn` checkers have theirs at
+        /// [`SCN_CHECKER_ORIGIN`].
+        origin: Vec3,
     },
-    /// Blotchy clouds: `t = clamp(turbulence(p / scale), 0, 1)`, colour `b + t (a - b)`.
+    /// Blotchy clouds: `t = turbulence(p / scale)`, colour `b + t (a - b)`. As in the original,
+    /// `t` is not clamped: where the turbulence exceeds 1 (rarely above 1.3) the colour goes
+    /// past `a`, away from `b` (components clamped at 0).
     Turbulence {
         /// Colour where the turbulence is strong.
         a: Vec3,
@@ -65,7 +70,10 @@ pub enum Texture {
         /// Noise cell size (world units); the vein bands repeat every `2 pi scale` along x + y.
         scale: f32,
     },
-    /// Growth rings: `t = fract(5 noise(p / scale))`, so rings follow the noise's level sets.
+    /// Growth rings: `g = 5 noise(p / scale)`, `t = g - trunc(g)`, colour `b + t (a - b)`, so
+    /// rings follow the noise's level sets. The original's fractional part truncates towards
+    /// zero: where the noise is negative `t` lies in (-1, 0] and the colour goes past `b`, away
+    /// from `a` (components clamped at 0); those rings are the broad bright bands of its wood.
     Wood {
         /// Colour at the outer edge of each ring.
         a: Vec3,
@@ -74,8 +82,9 @@ pub enum Texture {
         /// Noise cell size (world units).
         scale: f32,
     },
-    /// Three marble patterns, each stretched along a different axis, averaged: pattern one
-    /// blends `a`/`b`, two blends `b`/`c`, three blends `c`/`a`.
+    /// Three marble patterns, each stretched along a different axis: pattern one blends
+    /// `a`/`b`, two blends `b`/`c`, three blends `c`/`a`, and the colour is a quarter of each
+    /// (the original's weights, which sum to 3/4: not an average).
     CrissCross {
         /// First colour.
         a: Vec3,
@@ -102,6 +111,22 @@ fn mix(a: Vec3, b: Vec3, t: f32) -> Vec3 {
     b + (a - b) * t
 }
 
+/// [`mix`] for weights outside [0, 1] (the original extrapolates there), with negative
+/// components cut to 0: a negative albedo would subtract light.
+#[inline]
+fn mix_past(a: Vec3, b: Vec3, t: f32) -> Vec3 {
+    mix(a, b, t).max(Vec3::ZERO)
+}
+
+/// Where the original's checker grid has a corner: it counts cells from
+/// `p + 3,893,343` so that its truncating `(int)` never meets a negative value (and the seam
+/// that truncation leaves at 0 lies far away). The offset is not a multiple of the usual cell
+/// sizes, so the grid is shifted against the origin (by 7 units for a 50-unit cell).
+pub const SCN_CHECKER_ORIGIN: Vec3 = Vec3::splat(-3_893_343.0);
+
+/// Weight of each CrissCross pattern in the sum (the original's; three of them make 3/4).
+const CRISS_WEIGHT: f32 = 0.25;
+
 /// One marble pattern in noise space: a sine band along `dir` warped by turbulence of `q`
 /// stretched by `stretch`; in [0, 1].
 #[inline]
@@ -125,18 +150,26 @@ const CRISS_BANDS: [Vec3; 3] = [
 
 impl Texture {
     /// Colour (linear RGB) at world point `p` and texture coordinates `uv`; only `Image` reads
-    /// `uv`. Every procedural result lies in the convex hull of the kind's colours.
+    /// `uv`. Checkerboard and Marble results lie in the convex hull of the kind's colours,
+    /// CrissCross's in 3/4 of it; Turbulence and Wood extrapolate a little past their colours
+    /// (see the variants), never below 0.
     pub fn eval(&self, p: Vec3, uv: Vec2) -> Vec3 {
         match *self {
             Texture::Solid(c) => c,
             Texture::Image { ref image, tint } => tint * image.sample(uv),
-            Texture::Checkerboard { a, b, scale } => {
+            Texture::Checkerboard {
+                a,
+                b,
+                scale,
+                origin,
+            } => {
+                // f64: an origin millions of units away would round `p - origin` in f32.
+                let cell = ((p.as_dvec3() - origin.as_dvec3()) / scale as f64).floor();
                 // Parity per axis by bit tests: summing saturated integers could overflow.
-                let cell = (p / scale).floor();
                 let odd = (cell.x as i64 ^ cell.y as i64 ^ cell.z as i64) & 1;
                 if odd == 0 { a } else { b }
             }
-            Texture::Turbulence { a, b, scale } => mix(a, b, turbulence(p / scale).clamp(0.0, 1.0)),
+            Texture::Turbulence { a, b, scale } => mix_past(a, b, turbulence(p / scale)),
             Texture::Marble { a, b, scale } => mix(
                 a,
                 b,
@@ -148,13 +181,12 @@ impl Texture {
             ),
             Texture::Wood { a, b, scale } => {
                 let rings = 5.0 * noise(p / scale);
-                // Floor-based fract keeps t in [0, 1) on both signs of the noise.
-                mix(a, b, (rings - rings.floor()).clamp(0.0, 1.0))
+                mix_past(a, b, rings - rings.trunc())
             }
             Texture::CrissCross { a, b, c, scale } => {
                 let q = p / scale;
                 let t = [0, 1, 2].map(|i| veins(q, CRISS_BANDS[i], CRISS_STRETCH[i]));
-                (mix(a, b, t[0]) + mix(b, c, t[1]) + mix(c, a, t[2])) / 3.0
+                (mix(a, b, t[0]) + mix(b, c, t[1]) + mix(c, a, t[2])) * CRISS_WEIGHT
             }
         }
     }
@@ -207,11 +239,18 @@ impl Texture {
     /// with the world-space scale that draws the pattern the paper's ray tracer drew.
     ///
     /// The original multiplies the point by its scale (a frequency) for the noise kinds, with
-    /// extra constant factors; Checkerboard's is already a cell size. Non-positive values give
-    /// an infinite or negative scale, which [`Texture::validate`] rejects.
+    /// extra constant factors; Checkerboard's is already a cell size, and its grid gets the
+    /// original's corner [`SCN_CHECKER_ORIGIN`]. Non-positive values give an infinite or
+    /// negative scale, which [`Texture::validate`] rejects.
     pub fn from_scn_scale(self) -> Texture {
         match self {
-            Texture::Solid(_) | Texture::Checkerboard { .. } | Texture::Image { .. } => self,
+            Texture::Solid(_) | Texture::Image { .. } => self,
+            Texture::Checkerboard { a, b, scale, .. } => Texture::Checkerboard {
+                a,
+                b,
+                scale,
+                origin: SCN_CHECKER_ORIGIN,
+            },
             // Noise at 0.05 * s * p.
             Texture::Turbulence { a, b, scale } => Texture::Turbulence {
                 a,

@@ -3,13 +3,6 @@
 use super::perlin::noise;
 use crate::math::Vec3;
 
-/// Offsets that move the second and third noise lookups to unrelated parts of the lattice.
-/// Non-integer so no lattice point of one lookup is a lattice point (a forced zero) of another.
-const DECORRELATE: [Vec3; 2] = [
-    Vec3::new(31.416, -47.853, 12.793),
-    Vec3::new(-73.219, 19.374, 58.911),
-];
-
 /// Perturbs shading normals by a smooth 3-D noise vector field in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NormalMap {
@@ -22,16 +15,20 @@ pub struct NormalMap {
 
 impl NormalMap {
     /// The unit normal `n` at world point `p` bent by `amount` times a noise vector sampled at
-    /// `p / scale`, renormalised. Returns `n` where the bent vector vanishes. The result may face
+    /// `q = p / scale`, renormalised. As in the original, the three components are the one
+    /// noise at `q` with its coordinates rotated, `(noise(x, y, z), noise(y, z, x),
+    /// noise(z, x, y))`: along the diagonal x = y = z they coincide and the bend is along
+    /// (1, 1, 1). Returns `n` where the bent vector vanishes. The result may face
     /// away from the geometric normal for large `amount`; callers keep the side (see
     /// [`crate::material::Material::shading_normal`]).
     pub fn perturb(&self, n: Vec3, p: Vec3) -> Vec3 {
         let q = p / self.scale;
-        // Three lookups at far-apart points act as three independent noise fields.
+        // Rotating the coordinates reads the field along other axes: away from the diagonal
+        // the three lookups are practically independent.
         let d = Vec3::new(
             noise(q),
-            noise(q + DECORRELATE[0]),
-            noise(q + DECORRELATE[1]),
+            noise(Vec3::new(q.y, q.z, q.x)),
+            noise(Vec3::new(q.z, q.x, q.y)),
         );
         (n + d * self.amount).try_normalize().unwrap_or(n)
     }
@@ -80,6 +77,29 @@ mod tests {
             amount: 0.5,
         };
         assert!((nm.perturb(n, p * 2.0) - unit.perturb(n, p)).length() < 1e-5);
+    }
+
+    #[test]
+    fn components_are_the_noise_with_rotated_coordinates() {
+        let nm = NormalMap {
+            scale: 0.5,
+            amount: 1.0,
+        };
+        let p = Vec3::new(0.7, -1.3, 2.9);
+        let q = p / 0.5;
+        let d = nm.perturb(Vec3::ZERO, p);
+        let want = Vec3::new(
+            noise(q),
+            noise(Vec3::new(q.y, q.z, q.x)),
+            noise(Vec3::new(q.z, q.x, q.y)),
+        )
+        .normalize();
+        assert!((d - want).length() < 1e-6, "{d} vs {want}");
+        // On the diagonal all three lookups are the same point: the bend is along (1, 1, 1).
+        let diag = nm.perturb(Vec3::ZERO, Vec3::splat(0.37));
+        assert!((diag.abs() - Vec3::splat(3f32.sqrt().recip())).length() < 1e-6);
+        // The lattice is a zero of every lookup: no bend there.
+        assert_eq!(nm.perturb(Vec3::Y, Vec3::new(1.0, -2.0, 3.5)), Vec3::Y);
     }
 
     #[test]

@@ -15,12 +15,17 @@ fn points(n: usize) -> impl Iterator<Item = Vec3> {
     })
 }
 
-/// Every kind with primary colours, so the convex hull is easy to test: two-colour kinds blend
-/// X and Y, CrissCross blends X, Y and Z.
+/// Every kind with primary colours, so the blend weights are easy to read off: two-colour kinds
+/// blend X and Y, CrissCross blends X, Y and Z.
 fn kinds(scale: f32) -> Vec<Texture> {
     let (a, b, c) = (Vec3::X, Vec3::Y, Vec3::Z);
     vec![
-        Texture::Checkerboard { a, b, scale },
+        Texture::Checkerboard {
+            a,
+            b,
+            scale,
+            origin: Vec3::ZERO,
+        },
         Texture::Turbulence { a, b, scale },
         Texture::Marble { a, b, scale },
         Texture::Wood { a, b, scale },
@@ -39,7 +44,13 @@ fn solid_is_constant() {
 #[test]
 fn checker_parity_at_known_points() {
     let (a, b) = (Vec3::ONE, Vec3::ZERO);
-    let t = Texture::Checkerboard { a, b, scale: 1.0 };
+    let checker = |scale, origin| Texture::Checkerboard {
+        a,
+        b,
+        scale,
+        origin,
+    };
+    let t = checker(1.0, Vec3::ZERO);
     let at = |x: f32, y: f32, z: f32| t.eval(Vec3::new(x, y, z), UV);
     assert_eq!(at(0.5, 0.5, 0.5), a);
     assert_eq!(at(1.5, 0.5, 0.5), b);
@@ -49,9 +60,16 @@ fn checker_parity_at_known_points() {
     assert_eq!(at(-0.5, 0.5, 0.5), b);
     assert_eq!(at(-0.5, -0.5, 0.5), a);
     assert_eq!(at(-1.5, 0.5, 0.5), a);
-    let big = Texture::Checkerboard { a, b, scale: 2.0 };
+    let big = checker(2.0, Vec3::ZERO);
     assert_eq!(big.eval(Vec3::new(1.5, 0.5, 0.5), UV), a);
     assert_eq!(big.eval(Vec3::new(2.5, 0.5, 0.5), UV), b);
+    // The original's grid: cells of 50 counted from -3,893,343, i.e. edges at 7 mod 50 (in f64,
+    // so the far corner does not round p). [7, 57) is cell 77,867 (odd) on each axis.
+    let scn = checker(50.0, SCN_CHECKER_ORIGIN);
+    assert_eq!(scn.eval(Vec3::splat(7.5), UV), b);
+    assert_eq!(scn.eval(Vec3::splat(56.9), UV), b);
+    assert_eq!(scn.eval(Vec3::new(6.9, 7.5, 7.5), UV), a);
+    assert_eq!(scn.eval(Vec3::new(57.1, 7.5, 7.5), UV), a);
     // Points beyond the integer range must not panic.
     for p in [
         Vec3::new(1e30, -1e30, 3e38),
@@ -64,17 +82,59 @@ fn checker_parity_at_known_points() {
 }
 
 #[test]
-fn every_output_is_in_the_convex_hull_of_its_colours() {
+fn outputs_lie_where_the_originals_weights_put_them() {
     for t in kinds(7.0) {
         for p in points(5000) {
             let c = t.eval(p, UV);
-            assert!(c.min_element() >= -1e-6, "{t:?} at {p}: {c}");
-            assert!((c.element_sum() - 1.0).abs() < 1e-5, "{t:?} at {p}: {c}");
-            if !matches!(t, Texture::CrissCross { .. }) {
-                assert_eq!(c.z, 0.0, "{t:?} at {p}: {c}");
+            assert!(c.min_element() >= 0.0, "{t:?} at {p}: {c}");
+            let sum = c.element_sum();
+            match t {
+                // In the convex hull of the two colours.
+                Texture::Checkerboard { .. } | Texture::Marble { .. } => {
+                    assert!((sum - 1.0).abs() < 1e-5 && c.z == 0.0, "{t:?} at {p}: {c}")
+                }
+                // A quarter of each of three blends: 3/4 of the hull of the three colours.
+                Texture::CrissCross { .. } => {
+                    assert!((sum - 0.75).abs() < 1e-5, "{t:?} at {p}: {c}")
+                }
+                // Past X (t > 1, Y's weight clamped at 0) but never below the hull.
+                Texture::Turbulence { .. } => {
+                    assert!(
+                        sum >= 1.0 - 1e-5 && c.x < 2.0 && c.z == 0.0,
+                        "{t:?} at {p}: {c}"
+                    )
+                }
+                // t in (-1, 1): past Y (X's weight clamped at 0) where the noise is negative.
+                Texture::Wood { .. } => {
+                    assert!(
+                        sum >= 1.0 - 1e-5 && c.y < 2.0 && c.z == 0.0,
+                        "{t:?} at {p}: {c}"
+                    )
+                }
+                _ => unreachable!(),
             }
         }
     }
+}
+
+#[test]
+fn turbulence_and_wood_extrapolate_as_the_original() {
+    let (a, b, scale) = (Vec3::X, Vec3::Y, 7.0);
+    let turb = Texture::Turbulence { a, b, scale };
+    let past_a = points(5000).filter(|p| turb.eval(*p, UV).x > 1.0).count();
+    // The harmonic sum exceeds 1 now and then (about 0.6 on average).
+    assert!(
+        (5..1000).contains(&past_a),
+        "turbulence past a at {past_a} points"
+    );
+    let wood = Texture::Wood { a, b, scale };
+    // Truncation: where the noise is negative the weight is negative, so about half the
+    // surface lies past b (Y above 1), the broad bright rings of the original's wood.
+    let past_b = points(5000).filter(|p| wood.eval(*p, UV).y > 1.0).count();
+    assert!(
+        (1500..3500).contains(&past_b),
+        "wood past b at {past_b} points"
+    );
 }
 
 #[test]
@@ -118,14 +178,16 @@ fn known_values_on_the_noise_lattice() {
     let t = 0.5 + 0.5 * (-1.0f32).sin();
     let m = Texture::Marble { a, b, scale: s }.eval(p, UV);
     assert!((m - (b + (a - b) * t)).abs().max_element() < 1e-6);
-    // CrissCross at the origin: every band is at sin(0), t = 0.5, so the average of all three.
+    // CrissCross at the origin: every band is at sin(0), t = 0.5, so each blend is the mean
+    // of its pair and the quarter weights give (a + b + c) / 4.
     let cc = Texture::CrissCross { a, b, c, scale: s }.eval(Vec3::ZERO, UV);
-    assert!((cc - (a + b + c) / 3.0).abs().max_element() < 1e-6);
+    assert!((cc - (a + b + c) / 4.0).abs().max_element() < 1e-6);
 }
 
-/// Mean and spread of a two-colour texture's blend weight along X = 1, Y = 0.
+/// Mean and spread of a two-colour texture's blend weight `t`, read back from colours chosen
+/// so that no weight in (-1, 2) meets the clamp at 0: `b + t (a - b) = (1 + t, 2 - t, 0)`.
 fn weight_stats(t: &Texture) -> (f32, f32) {
-    let w: Vec<f32> = points(20_000).map(|p| t.eval(p, UV).x).collect();
+    let w: Vec<f32> = points(20_000).map(|p| t.eval(p, UV).x - 1.0).collect();
     let mean = w.iter().sum::<f32>() / w.len() as f32;
     let var = w.iter().map(|x| (x - mean).powi(2)).sum::<f32>() / w.len() as f32;
     (mean, var.sqrt())
@@ -133,15 +195,15 @@ fn weight_stats(t: &Texture) -> (f32, f32) {
 
 #[test]
 fn patterns_vary_and_use_both_colours() {
-    let [_, turb, marble, wood, _] = <[Texture; 5]>::try_from(kinds(5.0)).unwrap();
+    let (a, b, scale) = (Vec3::new(2.0, 1.0, 0.0), Vec3::new(1.0, 2.0, 0.0), 5.0);
     // Turbulence sits mostly mid-range; marble veins cover the sine's range; wood's sawtooth is
-    // close to uniform on [0, 1).
-    let (m, sd) = weight_stats(&turb);
+    // spread over (-1, 1), symmetric about 0 as the noise is.
+    let (m, sd) = weight_stats(&Texture::Turbulence { a, b, scale });
     assert!((0.3..0.9).contains(&m) && sd > 0.08, "turbulence {m} {sd}");
-    let (m, sd) = weight_stats(&marble);
+    let (m, sd) = weight_stats(&Texture::Marble { a, b, scale });
     assert!((0.3..0.7).contains(&m) && sd > 0.25, "marble {m} {sd}");
-    let (m, sd) = weight_stats(&wood);
-    assert!((0.35..0.65).contains(&m) && sd > 0.2, "wood {m} {sd}");
+    let (m, sd) = weight_stats(&Texture::Wood { a, b, scale });
+    assert!(m.abs() < 0.1 && sd > 0.3, "wood {m} {sd}");
 }
 
 #[test]
@@ -185,7 +247,8 @@ fn is_black_only_when_every_colour_is() {
         !Texture::Checkerboard {
             a: Vec3::X,
             b: k,
-            scale: 1.0
+            scale: 1.0,
+            origin: Vec3::ZERO
         }
         .is_black()
     );
@@ -237,12 +300,13 @@ fn scn_scale_conversion_reproduces_the_original_formulas() {
     };
     for p in points(300) {
         let s = 0.75;
-        let t = scn_sum(p, 0.05 * s, Vec3::ONE).min(1.0);
+        // No clamp of the weight; only the colour is kept non-negative.
+        let t = scn_sum(p, 0.05 * s, Vec3::ONE);
         close(
             Texture::Turbulence { a, b, scale: s }
                 .from_scn_scale()
                 .eval(p, UV),
-            b + (a - b) * t,
+            (b + (a - b) * t).max(Vec3::ZERO),
             "turbulence",
         );
 
@@ -259,15 +323,16 @@ fn scn_scale_conversion_reproduces_the_original_formulas() {
         );
 
         let s = 0.01;
+        // The original's `grain - (int)grain`: truncation towards zero.
         let g = noise(p * s) * 5.0;
-        let t = g - g.floor();
+        let t = g - g.trunc();
         // Right at a ring edge rounding may put the two on opposite sides of the jump.
-        if (0.001..0.999).contains(&t) {
+        if (0.001..0.999).contains(&t.abs()) {
             close(
                 Texture::Wood { a, b, scale: s }
                     .from_scn_scale()
                     .eval(p, UV),
-                b + (a - b) * t,
+                (b + (a - b) * t).max(Vec3::ZERO),
                 "wood",
             );
         }
@@ -278,7 +343,7 @@ fn scn_scale_conversion_reproduces_the_original_formulas() {
         let ta = 0.5 * ((x.x + x.z) * 0.05 + scn_sum(p, f, Vec3::new(0.35, 0.05, 1.0))).sin() + 0.5;
         let tb = 0.5 * ((x.y + x.x) * 0.05 + scn_sum(p, f, Vec3::new(1.0, 0.35, 0.05))).sin() + 0.5;
         let tc = 0.5 * ((x.z + x.y) * 0.05 + scn_sum(p, f, Vec3::new(0.05, 1.0, 0.35))).sin() + 0.5;
-        let want = (b + (a - b) * ta + c + (b - c) * tb + a + (c - a) * tc) / 3.0;
+        let want = (b + (a - b) * ta + c + (b - c) * tb + a + (c - a) * tc) * 0.25;
         close(
             Texture::CrissCross { a, b, c, scale: s }
                 .from_scn_scale()
@@ -287,8 +352,22 @@ fn scn_scale_conversion_reproduces_the_original_formulas() {
             "crisscross",
         );
     }
-    let checker = Texture::Checkerboard { a, b, scale: 50.0 };
-    assert_eq!(checker.clone().from_scn_scale(), checker);
+    // The checker keeps its cell size and gets the original's grid corner.
+    assert_eq!(
+        Texture::Checkerboard {
+            a,
+            b,
+            scale: 50.0,
+            origin: Vec3::ZERO
+        }
+        .from_scn_scale(),
+        Texture::Checkerboard {
+            a,
+            b,
+            scale: 50.0,
+            origin: SCN_CHECKER_ORIGIN
+        }
+    );
 }
 
 #[test]
