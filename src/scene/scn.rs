@@ -5,7 +5,9 @@
 //! - ambient `0.2 * colour`: `Settings::ambient = 0.2`;
 //! - per unshadowed light `I * (colour * cos + cos_r^shininess)`, no distance falloff: lights
 //!   become [`Light::Unattenuated`] with irradiance `pi * I` (lumis's Lambert is `kd / pi`)
-//!   and the Phong colour is `2 / (n + 2)` so lumis's normalised lobe peaks at exactly 1;
+//!   and the Phong colour is `2 / (n + 2)` so lumis's normalised lobe peaks at exactly 1
+//!   (lumis weights the lobe by the cosine of incidence too, the original does not: broad
+//!   highlights of low shininess come out dimmer; docs/paper.md measures it);
 //! - `reflectivity` → mirror weight; `Glass` → transmission 1 with Fresnel, no diffuse.
 //!
 //! Defaults when a statement is missing, the original's (its `main` and `RayTracer`
@@ -23,14 +25,20 @@
 //! - it multiplies the running diffuse sum by each light's intensity (`sum = (sum + colour *
 //!   cos) * I`), so a light's diffuse term is scaled again by every later light's intensity:
 //!   scenes with several lights come out too dark (intensities below 1) or too bright;
-//! - it reflects a position (the incoming ray's origin, the hit point of the previous bounce)
+//! - it reflects a position (the incoming ray's origin: the camera, or the previous hit point)
 //!   about the normal instead of the ray direction, so mirrors show the wrong part of the scene;
 //! - its median split (the BSMP variant) puts a primitive whose centroid lies exactly on the
 //!   split value into neither child: one object vanishes from ballsInAPit and tumbledStones;
 //! - its lens jitter moves the ray origin along world x and y instead of the camera's axes;
 //! - it gives every refracted ray a recursion budget of 1 whatever is left, so glass can cut
 //!   internal reflections short and never stops a chain of refractions (lumis counts each
-//!   refraction as a bounce against `maxReflections`).
+//!   refraction as a bounce against `maxReflections`);
+//! - it knows the medium only from the ray: every hit on glass is taken as entering it, so a
+//!   refracted ray reaching the far side goes from glass into glass (no bend, no reflection)
+//!   and a camera inside glass (tumbledStones' dome) refracts as if entering it;
+//! - it shades a triangle with its winding normal, never turned towards the viewer, so a
+//!   triangle seen from behind (triangleTest1's checkered one) gets only ambient light;
+//! - it truncates colour x 255 to the code value where lumis rounds (half a level darker).
 //!
 //! The noise textures follow the original's formulas (see [`Texture`]) over lumis's own
 //! Perlin noise, so they look alike but are not the same pixels.
