@@ -23,6 +23,6 @@ fn bench_effects_measures_both_modes_and_reports_identical_images() {
             .nth(2)
             .is_some_and(|l| l.starts_with("| default |") && l.ends_with("| yes |"))
     );
-    assert!(reasons_markdown(&[row.clone()]).contains("| default |"));
+    assert!(reasons_markdown(std::slice::from_ref(&row)).contains("| default |"));
     assert_eq!(csv(&[row]).lines().count(), 2);
 }
