@@ -4,7 +4,7 @@
 //! The permutation is lumis's own: a Fisher-Yates shuffle of 0..=255 driven by SplitMix64 from a
 //! fixed seed, computed at compile time, so every build and every thread sees the same noise.
 
-use crate::math::Vec3;
+use crate::math::{Vec3, floor_fast};
 
 /// Seed of the permutation shuffle; changing it changes every procedural texture in every image.
 const PERM_SEED: u64 = 0x6C75_6D69_735F_6E7A;
@@ -97,7 +97,7 @@ fn lerp(t: f32, a: f32, b: f32) -> f32 {
 /// roughly in [-1, 1] (the exact extremes are about ±1.04), mean zero. Never panics: points
 /// beyond the `i32` range saturate onto one lattice cell, NaN in gives NaN out.
 pub fn noise(p: Vec3) -> f32 {
-    let cell = p.floor();
+    let cell = Vec3::new(floor_fast(p.x), floor_fast(p.y), floor_fast(p.z));
     let f = p - cell;
     // `as i32` saturates and `& 255` wraps negatives correctly in two's complement.
     let x = (cell.x as i32 & 255) as usize;
