@@ -209,9 +209,8 @@ impl<'a> Whitted<'a> {
         counts: &mut RayCounts,
     ) -> Vec3 {
         let lights = self.scene.lights();
-        let skips = &mut counts.not_traced.shadow;
         if !ALL && !sh.traits.lit {
-            skips.material_unlit += lights.len() as u64;
+            counts.not_traced.shadow.material_unlit += lights.len() as u64;
             return Vec3::ZERO;
         }
         let mut l = Vec3::ZERO;
@@ -223,6 +222,7 @@ impl<'a> Whitted<'a> {
             let ls = light.sample(s.p);
             let c = self.unshadowed::<ALL>(sh, kd, ng, ns, wo, &ls);
             if !ALL && c == Vec3::ZERO {
+                // Only the count depends on which zero it was; the skip itself needs none of this.
                 let skips = &mut counts.not_traced.shadow;
                 if ns.dot(ls.wi) <= 0.0 || ng.dot(ls.wi) <= 0.0 {
                     skips.back_facing += 1;
