@@ -71,9 +71,7 @@ pub fn run_paper(args: &PaperArgs) -> Result<()> {
         // The paper's settings: 1 sample per pixel, 5 depth-of-field rays (the loader's defaults).
         let st = scene.settings_mut();
         (st.width, st.height, st.spp, st.lens_samples) = (w, h, 1, 5);
-        let name = file
-            .file_name()
-            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let name = file_name(file);
         for config in &configs {
             let m = measure(&scene, &name, config, args.repeat, None)
                 .with_context(|| format!("{name}: {}", config.label))?;

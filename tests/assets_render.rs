@@ -1,38 +1,17 @@
 //! Every model the project ships in `assets/` (except the deliberately broken ones in
 //! `assets/gltf/bad/`) loads and renders, with geometry in view.
 
+mod common;
+
 use lumis::accel::{Accel, AccelKind, BuildOptions};
 use lumis::render::{RenderOptions, render};
-use std::path::{Path, PathBuf};
-
-fn models(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let p = entry.path();
-        if p.is_dir() {
-            if p.file_name().is_some_and(|n| n != "bad") {
-                models(&p, out);
-            }
-        } else if p
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| ["obj", "gltf", "glb", "m"].contains(&e))
-        {
-            out.push(p);
-        }
-    }
-}
 
 #[test]
 fn every_asset_loads_and_renders() {
-    let mut files = Vec::new();
-    models(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets"),
-        &mut files,
+    let files = common::files::files_under(
+        &common::files::root().join("assets"),
+        &["obj", "gltf", "glb", "m"],
     );
-    files.sort();
     assert!(
         files.len() >= 15,
         "expected the project's assets, found {files:?}"

@@ -3,33 +3,14 @@
 //! traversal) renders each to exactly the bits that brute force renders. CI sets
 //! `LUMIS_REQUIRE_PAPER_SCENES=1` so a missing folder fails there.
 
+mod common;
+
+use common::files::paper_scenes;
 use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
 use lumis::camera::Lens;
 use lumis::film::Film;
 use lumis::render::{RenderOptions, render};
 use lumis::scene::{Scene, load};
-use std::path::PathBuf;
-
-fn paper_scenes() -> Vec<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/paper-scenes/scenes");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .map(|d| {
-            d.filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|e| e == "scn"))
-                .collect()
-        })
-        .unwrap_or_default();
-    files.sort();
-    if files.is_empty() {
-        assert!(
-            std::env::var_os("LUMIS_REQUIRE_PAPER_SCENES").is_none(),
-            "no paper scenes in {}",
-            dir.display()
-        );
-        eprintln!("skipping: {} not found", dir.display());
-    }
-    files
-}
 
 fn bits(film: &Film) -> Vec<u32> {
     let rgba = film.rgba().iter().flat_map(|p| p.to_array());

@@ -2,32 +2,8 @@
 //! bit-identical to `--effects all` at cutoff 0, in RGBA and every AOV layer.
 
 use super::auto_and_all;
-use std::path::{Path, PathBuf};
-
-fn files(dir: &Path, exts: &[&str], out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let p = entry.path();
-        if p.is_dir() {
-            // Deliberately broken inputs live in `bad/`.
-            if p.file_name().is_some_and(|n| n != "bad") {
-                files(&p, exts, out);
-            }
-        } else if p
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| exts.contains(&e))
-        {
-            out.push(p);
-        }
-    }
-}
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use super::common::files::{files_under, paper_scenes, root};
+use std::path::Path;
 
 /// Loads `file`, shrinks the image to `w x h` with one sample per pixel, and checks both modes.
 fn check(file: &Path, w: u32, h: u32) -> (u64, u64) {
@@ -40,20 +16,7 @@ fn check(file: &Path, w: u32, h: u32) -> (u64, u64) {
 
 #[test]
 fn paper_scenes_render_the_same_bits_as_effects_all() {
-    let dir = root().join("../shared/paper-scenes/scenes");
-    let mut scenes = Vec::new();
-    files(&dir, &["scn"], &mut scenes);
-    if scenes.is_empty() {
-        assert!(
-            std::env::var_os("LUMIS_REQUIRE_PAPER_SCENES").is_none(),
-            "no paper scenes in {}",
-            dir.display()
-        );
-        eprintln!("skipping: {} not found", dir.display());
-        return;
-    }
-    scenes.sort();
-    for file in &scenes {
+    for file in &paper_scenes() {
         // The scene's own depth, lens rays and (zero) cutoff; a small image keeps the
         // everything-traced reference affordable.
         let (auto, all) = check(file, 24, 14);
@@ -63,15 +26,12 @@ fn paper_scenes_render_the_same_bits_as_effects_all() {
 
 #[test]
 fn assets_render_the_same_bits_as_effects_all() {
-    let mut models = Vec::new();
-    files(&root().join("assets"), &["obj", "gltf", "glb"], &mut models);
-    files(&root().join("scenes"), &["toml"], &mut models);
-    files(
+    let mut models = files_under(&root().join("assets"), &["obj", "gltf", "glb"]);
+    models.extend(files_under(&root().join("scenes"), &["toml"]));
+    models.extend(files_under(
         &root().join("tests/fixtures"),
         &["toml", "scn"],
-        &mut models,
-    );
-    models.sort();
+    ));
     assert!(
         models.len() >= 15,
         "expected the project's assets, found {models:?}"

@@ -3,6 +3,8 @@
 //! scene lacks costs zero rays.
 
 mod bench;
+#[path = "../common/mod.rs"]
+mod common;
 mod identical;
 mod levels;
 mod stats_json;
