@@ -145,7 +145,7 @@ pub fn measure(
         let opts = BuildOptions {
             max_leaf_size: leaf_size.unwrap_or(config.accel.default_leaf_size()),
         };
-        let accel = Accel::build(config.accel, &scene.geometry().prim_bounds(), &opts)
+        let accel = Accel::build_for(config.accel, scene.geometry(), &opts)
             .with_traversal(config.traversal);
         // Like the original's TGA, Table I's image has no depth/normal/id layers to trace.
         let opts = RenderOptions {

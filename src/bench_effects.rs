@@ -38,11 +38,7 @@ pub fn measure_effects(
     threads: Option<usize>,
     aov_layers: bool,
 ) -> Result<EffectsRow, RenderError> {
-    let accel = Accel::build(
-        AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
-        &BuildOptions::default(),
-    );
+    let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
     let run = |effects: EffectMode| -> Result<(f64, Rendered), RenderError> {
         let opts = RenderOptions {
             threads,

@@ -3,7 +3,7 @@
 use anyhow::{Result, bail};
 use clap::Args;
 use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
-use lumis::math::Aabb;
+use lumis::geometry::Geometry;
 
 /// `--accel`, `--traversal`, `--segment-init`, `--segment-max`, `--leaf-size`.
 #[derive(Args, Debug)]
@@ -62,9 +62,9 @@ impl AccelArgs {
 }
 
 impl AccelChoice {
-    /// Builds over primitives with the given bounds.
-    pub fn build(&self, bounds: &[Aabb]) -> Accel {
-        Accel::build(self.kind, bounds, &self.options).with_traversal(self.traversal)
+    /// Builds over the primitives of `geometry`.
+    pub fn build(&self, geometry: &Geometry) -> Accel {
+        Accel::build_for(self.kind, geometry, &self.options).with_traversal(self.traversal)
     }
 }
 

@@ -63,7 +63,7 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
     let load_s = start.elapsed().as_secs_f64();
     let rays = read_rays(&args.rays)?;
     let start = Instant::now();
-    let accel = accel_kind.build(&scene.geometry().prim_bounds());
+    let accel = accel_kind.build(scene.geometry());
     let build_s = start.elapsed().as_secs_f64();
     let run = || {
         let mut hits = Vec::new();

@@ -217,7 +217,8 @@ fn to_ray(r: &[f32; RAY_COLUMNS]) -> Ray {
 const MISS: [f32; HIT_COLUMNS] = [f32::INFINITY, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0];
 
 impl Query {
-    /// The hit row, with the primitive test the scene's precision selects (chosen once per ray).
+    /// The hit row: the scene's own nearest-hit query, or for `any_hit` the first blocker with
+    /// the primitive test the scene's precision selects (chosen once per ray).
     fn row(
         &self,
         scene: &Scene,
@@ -225,38 +226,14 @@ impl Query {
         any_hit: bool,
         stats: &mut TraversalStats,
     ) -> [f32; HIT_COLUMNS] {
-        let (g, precision) = (scene.geometry(), scene.settings().precision);
-        with_prim_test!(g, precision, &self.ray, |test| self
-            .row_with(scene, accel, any_hit, stats, test))
-    }
-
-    fn row_with(
-        &self,
-        scene: &Scene,
-        accel: &Accel,
-        any_hit: bool,
-        stats: &mut TraversalStats,
-        test: impl Fn(u32, &Ray) -> Option<PrimHit>,
-    ) -> [f32; HIT_COLUMNS] {
+        if any_hit {
+            let (g, precision) = (scene.geometry(), scene.settings().precision);
+            return with_prim_test!(g, precision, &self.ray, |test| self
+                .blocker_row(accel, stats, test));
+        }
         let ray = &self.ray;
         let g = scene.geometry();
-        if any_hit {
-            // The traversal stops at the first blocker, so the last hit recorded is that blocker.
-            let mut t_hit = f32::INFINITY;
-            let blocked = accel.occluded(ray, stats, |p, r| match test(p, r) {
-                Some(h) => {
-                    t_hit = h.t;
-                    true
-                }
-                None => false,
-            });
-            let mut row = MISS;
-            if blocked {
-                row[0] = t_hit;
-            }
-            return row;
-        }
-        let Some(Hit { prim, hit }) = accel.intersect(ray, stats, test) else {
+        let Some(Hit { prim, hit }) = scene.intersect_hit(accel, ray, stats) else {
             return MISS;
         };
         let mut hit_ray = *ray;
@@ -277,6 +254,29 @@ impl Query {
             n.z,
             kind,
         ]
+    }
+
+    /// The any-hit row: only the distance of the blocker the traversal stopped at.
+    fn blocker_row(
+        &self,
+        accel: &Accel,
+        stats: &mut TraversalStats,
+        test: impl Fn(u32, &Ray) -> Option<PrimHit>,
+    ) -> [f32; HIT_COLUMNS] {
+        // The traversal stops at the first blocker, so the last hit recorded is that blocker.
+        let mut t_hit = f32::INFINITY;
+        let blocked = accel.occluded(&self.ray, stats, |p, r| match test(p, r) {
+            Some(h) => {
+                t_hit = h.t;
+                true
+            }
+            None => false,
+        });
+        let mut row = MISS;
+        if blocked {
+            row[0] = t_hit;
+        }
+        row
     }
 }
 

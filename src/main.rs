@@ -182,7 +182,7 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     times.load = t.elapsed();
 
     let t = Instant::now();
-    let accel = choice.build(&scene.geometry().prim_bounds());
+    let accel = choice.build(scene.geometry());
     times.build = t.elapsed();
 
     let t = Instant::now();

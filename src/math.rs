@@ -219,7 +219,7 @@ pub fn floor_fast(x: f32) -> f32 {
 }
 
 /// `1 + 2 * gamma(3)`: the factor that makes the slab test conservative (pbrt-v4, Ize 2013).
-const ROBUST_BOX_SCALE: f32 = 1.0 + 2.0 * gamma(3);
+pub(crate) const ROBUST_BOX_SCALE: f32 = 1.0 + 2.0 * gamma(3);
 
 /// The floating-point error bound `n * eps / (1 - n * eps)` (pbrt's gamma_n), with eps = 2^-24.
 pub const fn gamma(n: i32) -> f32 {

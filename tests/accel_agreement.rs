@@ -63,7 +63,7 @@ fn check(name: &str, g: &Geometry, rays: &[Ray]) -> usize {
     }
     for kind in all_kinds() {
         for max_leaf_size in LEAF_SIZES {
-            let built = Accel::build(kind, &bounds, &BuildOptions { max_leaf_size });
+            let built = Accel::build_for(kind, g, &BuildOptions { max_leaf_size });
             // Without a hierarchy the leaf size means nothing: one run of brute force suffices.
             if built.bvh().is_none() && max_leaf_size != LEAF_SIZES[0] {
                 continue;
@@ -72,6 +72,11 @@ fn check(name: &str, g: &Geometry, rays: &[Ray]) -> usize {
                 && let Err(e) = b.validate(&bounds)
             {
                 panic!("{name} {kind:?} leaf {max_leaf_size}: invalid hierarchy: {e}");
+            }
+            if let Some(w) = built.wide()
+                && let Err(e) = w.validate(&bounds)
+            {
+                panic!("{name} {kind:?} leaf {max_leaf_size}: invalid wide hierarchy: {e}");
             }
             for traversal in TRAVERSALS {
                 let accel = built.clone().with_traversal(traversal);
@@ -146,11 +151,10 @@ fn exact_t_ties_go_to_the_lowest_index() {
     let (g, groups) = scenes::duplicates(51);
     let rays = rays::mixed(&mut Rng::new(52), &g, 12_000);
     check("duplicates", &g, &rays);
-    let bounds = g.prim_bounds();
     let mut ties = 0;
     for kind in all_kinds() {
         for max_leaf_size in LEAF_SIZES {
-            let accel = Accel::build(kind, &bounds, &BuildOptions { max_leaf_size });
+            let accel = Accel::build_for(kind, &g, &BuildOptions { max_leaf_size });
             for (i, r) in rays.iter().enumerate() {
                 let Some(h) = closest(&accel, &g, r) else {
                     continue;

@@ -54,11 +54,7 @@ fn load(text: &str) -> Scene {
 }
 
 fn sah(scene: &Scene) -> Accel {
-    Accel::build(
-        AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
-        &BuildOptions::default(),
-    )
+    Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default())
 }
 
 #[test]

@@ -21,11 +21,7 @@ fn every_asset_loads_and_renders() {
             lumis::scene::load(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         let st = scene.settings_mut();
         (st.width, st.height, st.spp) = (24, 16, 1);
-        let accel = Accel::build(
-            AccelKind::Sah,
-            &scene.geometry().prim_bounds(),
-            &BuildOptions::default(),
-        );
+        let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
         let film = render(&scene, &accel, &RenderOptions::default())
             .unwrap_or_else(|e| panic!("{}: {e}", file.display()))
             .film;

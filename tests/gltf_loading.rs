@@ -63,9 +63,9 @@ fn gltf_bin_data_uri_and_glb_render_identical_depth_and_ids() {
             s.set_camera(cam);
             let st = s.settings_mut();
             (st.width, st.height, st.spp) = (48, 32, 1);
-            let accel = Accel::build(
+            let accel = Accel::build_for(
                 AccelKind::Sah,
-                &s.geometry().prim_bounds(),
+                s.geometry(),
                 &BuildOptions { max_leaf_size: 4 },
             );
             let opts = RenderOptions {

@@ -198,11 +198,7 @@ fn textured_quad_renders_its_texels() {
         150,
         None,
     ));
-    let accel = Accel::build(
-        AccelKind::Sah,
-        &s.geometry().prim_bounds(),
-        &BuildOptions::default(),
-    );
+    let accel = Accel::build_for(AccelKind::Sah, s.geometry(), &BuildOptions::default());
     let opts = RenderOptions {
         seed: 3,
         threads: Some(2),

@@ -31,8 +31,7 @@ fn render_with(scene: &Scene, kind: AccelKind, traversal: Traversal) -> Film {
     let opts = BuildOptions {
         max_leaf_size: kind.default_leaf_size(),
     };
-    let accel =
-        Accel::build(kind, &scene.geometry().prim_bounds(), &opts).with_traversal(traversal);
+    let accel = Accel::build_for(kind, scene.geometry(), &opts).with_traversal(traversal);
     render(
         scene,
         &accel,

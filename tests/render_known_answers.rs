@@ -46,11 +46,7 @@ fn builder(w: u32, h: u32, spp: u32) -> SceneBuilder {
 }
 
 fn run(scene: &Scene, threads: usize) -> (Film, RayCounts) {
-    let accel = Accel::build(
-        AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
-        &BuildOptions::default(),
-    );
+    let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
     let r = render(
         scene,
         &accel,

@@ -12,15 +12,22 @@ mod bsp;
 mod build;
 mod bvh;
 mod exhaustive;
+pub(crate) mod leaves;
 pub(crate) mod sah;
 mod segments;
 mod slab;
+mod wide;
 
 pub use bsp::SplitRule;
 pub use bvh::{Bvh, Node};
 pub use segments::SegmentParams;
+pub use wide::{LEAF_ALIGN, PADDING, Wide8, WideBvh, WideNode};
 
-use crate::geometry::PrimHit;
+use std::sync::Arc;
+
+use crate::geometry::{
+    Geometry, PackedLeaves, PackedWatertight, Precision, PrimHit, with_prim_test,
+};
 use crate::math::{Aabb, Ray};
 
 /// Which acceleration structure to build.
@@ -147,6 +154,8 @@ pub struct Accel {
     kind: AccelKind,
     structure: Structure,
     traversal: Traversal,
+    /// The triangles in the wide hierarchy's leaf order (see [`Accel::build_for`]).
+    packed: Option<Arc<PackedLeaves>>,
 }
 
 #[derive(Clone, Debug)]
@@ -155,6 +164,9 @@ enum Structure {
     Brute(brute::Brute),
     /// A hierarchy in one flat node array.
     Bvh(Bvh),
+    /// The SAH tree collapsed to 8-wide nodes for the ordered walk; the binary tree is kept for
+    /// the paper's traversals (segments, exhaustive), which are defined on binary nodes.
+    Wide(Box<Wide8>, Bvh),
 }
 
 impl Accel {
@@ -165,13 +177,81 @@ impl Accel {
             AccelKind::Brute => Structure::Brute(brute::Brute::new(bounds)),
             AccelKind::Bsp => Structure::Bvh(bsp::build(bounds, opts, SplitRule::SpatialCentre)),
             AccelKind::Bsmp => Structure::Bvh(bsp::build(bounds, opts, SplitRule::MedianCentroid)),
-            AccelKind::Sah => Structure::Bvh(sah::build(bounds, opts)),
+            AccelKind::Sah => {
+                let binary = sah::build(bounds, opts);
+                Structure::Wide(Box::new(Wide8::collapse(&binary)), binary)
+            }
         };
         Self {
             kind,
             structure,
             traversal: Traversal::Ordered,
+            packed: None,
         }
+    }
+
+    /// Builds `kind` over the primitives of `geometry` and, for the wide hierarchy, copies the
+    /// triangles into its leaf order ([`PackedLeaves`]) for the scene's watertight queries.
+    pub fn build_for(kind: AccelKind, geometry: &Geometry, opts: &BuildOptions) -> Self {
+        let mut accel = Self::build(kind, &geometry.prim_bounds(), opts);
+        if let Structure::Wide(w, _) = &accel.structure {
+            accel.packed = Some(Arc::new(PackedLeaves::new(geometry, w.prim_order())));
+        }
+        accel
+    }
+
+    /// The packed triangles and the walk that reads them, when this accelerator has them and
+    /// is walked in order (the paper's traversals run on the binary tree, in its own order).
+    pub(crate) fn packed(&self) -> Option<(&Wide8, &PackedLeaves)> {
+        match (&self.structure, &self.traversal, &self.packed) {
+            (Structure::Wide(w, _), Traversal::Ordered, Some(p)) => Some((w, p)),
+            _ => None,
+        }
+    }
+
+    /// The nearest hit of `ray` among the primitives of `geometry` (the geometry this was
+    /// built for) with the primitive tests of `precision`: through the packed leaves when
+    /// there are any and the tests are the watertight ones, else one primitive at a time.
+    pub fn intersect_geometry(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
+            return wide.intersect(ray, stats, PackedWatertight::new(packed, geometry, ray));
+        }
+        // One traversal instantiation per precision, chosen once per ray.
+        with_prim_test!(geometry, precision, ray, |test| self
+            .intersect(ray, stats, test))
+    }
+
+    /// True when a primitive of `geometry` blocks `ray` (see [`Accel::intersect_geometry`]).
+    pub fn occluded_geometry(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
+            return wide.occluded(ray, stats, PackedWatertight::new(packed, geometry, ray));
+        }
+        with_prim_test!(geometry, precision, ray, |test| {
+            self.occluded(ray, stats, |p, r| test(p, r).is_some())
+        })
+    }
+
+    /// Bytes of the hierarchy and of the packed leaves, for the bytes-per-primitive figure.
+    pub fn bytes(&self) -> usize {
+        let binary = |b: &Bvh| std::mem::size_of_val(b.nodes()) + 4 * b.prim_order().len();
+        let structure = match &self.structure {
+            Structure::Brute(_) => 0,
+            Structure::Bvh(b) => binary(b),
+            Structure::Wide(w, b) => w.bytes() + binary(b),
+        };
+        structure + self.packed.as_ref().map_or(0, |p| p.bytes())
     }
 
     /// This accelerator walked with `traversal` instead. Brute force has no nodes to march
@@ -195,7 +275,15 @@ impl Accel {
     pub fn bvh(&self) -> Option<&Bvh> {
         match &self.structure {
             Structure::Brute(_) => None,
-            Structure::Bvh(b) => Some(b),
+            Structure::Bvh(b) | Structure::Wide(_, b) => Some(b),
+        }
+    }
+
+    /// The wide hierarchy the ordered walk uses, when this kind has one.
+    pub fn wide(&self) -> Option<&Wide8> {
+        match &self.structure {
+            Structure::Wide(w, _) => Some(w),
+            _ => None,
         }
     }
 
@@ -208,12 +296,17 @@ impl Accel {
     {
         match (&self.structure, &self.traversal) {
             (Structure::Brute(b), _) => b.intersect(ray, stats, test),
+            (Structure::Wide(w, _), Traversal::Ordered) => {
+                w.intersect(ray, stats, leaves::PerPrim(test))
+            }
             (Structure::Bvh(b), Traversal::Ordered) => b.intersect(ray, stats, test),
-            (Structure::Bvh(b), Traversal::Segments(p)) => {
+            (Structure::Bvh(b) | Structure::Wide(_, b), Traversal::Segments(p)) => {
                 b.intersect_segments(ray, p, stats, test)
             }
-            (Structure::Bvh(b), Traversal::Exhaustive) => b.intersect_exhaustive(ray, stats, test),
-            (Structure::Bvh(b), Traversal::SegmentsOriginalRule(p)) => {
+            (Structure::Bvh(b) | Structure::Wide(_, b), Traversal::Exhaustive) => {
+                b.intersect_exhaustive(ray, stats, test)
+            }
+            (Structure::Bvh(b) | Structure::Wide(_, b), Traversal::SegmentsOriginalRule(p)) => {
                 b.intersect_segments_original_rule(ray, p, stats, test)
             }
         }
@@ -227,12 +320,17 @@ impl Accel {
     {
         match (&self.structure, &self.traversal) {
             (Structure::Brute(b), _) => b.occluded(ray, stats, test),
-            (Structure::Bvh(b), Traversal::Ordered | Traversal::Exhaustive) => {
-                b.occluded(ray, stats, test)
+            (Structure::Wide(w, _), Traversal::Ordered) => {
+                w.occluded(ray, stats, leaves::PerPrim(test))
             }
-            (Structure::Bvh(b), Traversal::Segments(p) | Traversal::SegmentsOriginalRule(p)) => {
-                b.occluded_segments(ray, p, stats, test)
-            }
+            (
+                Structure::Bvh(b) | Structure::Wide(_, b),
+                Traversal::Ordered | Traversal::Exhaustive,
+            ) => b.occluded(ray, stats, test),
+            (
+                Structure::Bvh(b) | Structure::Wide(_, b),
+                Traversal::Segments(p) | Traversal::SegmentsOriginalRule(p),
+            ) => b.occluded_segments(ray, p, stats, test),
         }
     }
 

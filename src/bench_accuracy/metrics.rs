@@ -152,11 +152,7 @@ impl Oracle {
     pub fn new(scene: &Scene) -> Self {
         let mut s64 = scene.clone();
         s64.settings_mut().precision = Precision::Double;
-        let brute = Accel::build(
-            AccelKind::Brute,
-            &s64.geometry().prim_bounds(),
-            &BuildOptions::default(),
-        );
+        let brute = Accel::build_for(AccelKind::Brute, s64.geometry(), &BuildOptions::default());
         let mut stats = TraversalStats::default();
         let truths = centre_rays(scene)
             .into_iter()

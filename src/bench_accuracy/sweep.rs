@@ -149,11 +149,7 @@ pub struct SweepOptions {
 pub fn sweep_scene(bs: &BenchScene, opts: &SweepOptions) -> Result<Vec<Row>> {
     let mut scene = bs.scene.clone();
     (scene.settings_mut().width, scene.settings_mut().height) = (opts.width, opts.height);
-    let accel = Accel::build(
-        AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
-        &BuildOptions::default(),
-    );
+    let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
     let points = points();
     let ropts = RenderOptions {
         threads: opts.threads,

@@ -18,15 +18,15 @@ use crate::math::{Ray, Vec3, Vec3A};
 /// triangle it is tested against.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
+    pub(super) kx: usize,
+    pub(super) ky: usize,
+    pub(super) kz: usize,
+    pub(super) sx: f32,
+    pub(super) sy: f32,
     sz: f32,
     /// Weights of `|v|` (world axes) whose dot product is a vertex's sheared magnitude, scaled
     /// so the product of two is the edge function's error bound (see [`EDGE_WEIGHT`]).
-    err_w: Vec3A,
+    pub(super) err_w: Vec3A,
 }
 
 impl WatertightRay {

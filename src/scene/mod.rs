@@ -32,7 +32,7 @@ use std::path::Path;
 
 use crate::accel::{Accel, Hit, TraversalStats};
 use crate::camera::Camera;
-use crate::geometry::{Geometry, SurfacePoint, with_prim_test};
+use crate::geometry::{Geometry, SurfacePoint};
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::Ray;
@@ -196,11 +196,7 @@ impl Scene {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> Option<Interaction> {
-        // One traversal instantiation per precision, chosen once per ray.
-        let Hit { prim, hit } =
-            with_prim_test!(&self.geometry, self.settings.precision, ray, |test| {
-                accel.intersect(ray, stats, test)
-            })?;
+        let Hit { prim, hit } = self.intersect_hit(accel, ray, stats)?;
         let mut hit_ray = *ray;
         hit_ray.t_max = hit.t;
         Some(Interaction {
@@ -211,11 +207,19 @@ impl Scene {
         })
     }
 
+    /// The nearest primitive hit of `ray`, before any surface is computed.
+    pub fn intersect_hit(
+        &self,
+        accel: &Accel,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        accel.intersect_geometry(&self.geometry, self.settings.precision, ray, stats)
+    }
+
     /// True when something blocks `ray` within `(t_min, t_max]`.
     pub fn occluded(&self, accel: &Accel, ray: &Ray, stats: &mut TraversalStats) -> bool {
-        with_prim_test!(&self.geometry, self.settings.precision, ray, |test| {
-            accel.occluded(ray, stats, |p, r| test(p, r).is_some())
-        })
+        accel.occluded_geometry(&self.geometry, self.settings.precision, ray, stats)
     }
 }
 

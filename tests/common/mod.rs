@@ -12,7 +12,7 @@ pub mod rays;
 pub mod scenes;
 
 use lumis::accel::{Accel, AccelKind, BuildOptions, Hit, TraversalStats};
-use lumis::geometry::{Geometry, WatertightRay};
+use lumis::geometry::{Geometry, Precision, WatertightRay};
 use lumis::math::{Aabb, Ray, Vec3};
 
 /// Every accelerator kind the crate offers, read from the enum itself (`clap::ValueEnum`), so a
@@ -81,26 +81,60 @@ impl Rng {
 /// The nearest hit of `ray` through `accel`, with the closure the renderer uses.
 pub fn closest(accel: &Accel, geometry: &Geometry, ray: &Ray) -> Option<Hit> {
     let wr = WatertightRay::new(ray.dir);
-    accel.intersect(ray, &mut TraversalStats::default(), |p, r| {
+    let hit = accel.intersect(ray, &mut TraversalStats::default(), |p, r| {
         geometry.intersect(p, r, &wr)
-    })
+    });
+    // The same query through the accelerator's own dispatch (packed leaves, when it has them)
+    // must give the same answer, bit for bit.
+    let packed = accel.intersect_geometry(
+        geometry,
+        Precision::Watertight,
+        ray,
+        &mut TraversalStats::default(),
+    );
+    assert!(
+        same_hit(&hit, &packed),
+        "packed leaves disagree with per-primitive tests: {hit:?} vs {packed:?} for {ray:?}"
+    );
+    hit
+}
+
+/// Bit-level equality of two answers (`PartialEq` on `f32` would call `0.0 == -0.0` equal).
+pub fn same_hit(a: &Option<Hit>, b: &Option<Hit>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(a), Some(b)) => {
+            a.prim == b.prim
+                && a.hit.t.to_bits() == b.hit.t.to_bits()
+                && a.hit.u.to_bits() == b.hit.u.to_bits()
+                && a.hit.v.to_bits() == b.hit.v.to_bits()
+        }
+        _ => false,
+    }
 }
 
 /// Whether anything blocks `ray` through `accel`.
 pub fn occluded(accel: &Accel, geometry: &Geometry, ray: &Ray) -> bool {
     let wr = WatertightRay::new(ray.dir);
-    accel.occluded(ray, &mut TraversalStats::default(), |p, r| {
+    let blocked = accel.occluded(ray, &mut TraversalStats::default(), |p, r| {
         geometry.intersect(p, r, &wr).is_some()
-    })
+    });
+    let packed = accel.occluded_geometry(
+        geometry,
+        Precision::Watertight,
+        ray,
+        &mut TraversalStats::default(),
+    );
+    assert_eq!(
+        blocked, packed,
+        "packed leaves disagree on occlusion for {ray:?}"
+    );
+    blocked
 }
 
 /// The brute-force reference over `geometry`.
 pub fn brute(geometry: &Geometry) -> Accel {
-    Accel::build(
-        AccelKind::Brute,
-        &geometry.prim_bounds(),
-        &BuildOptions::default(),
-    )
+    Accel::build_for(AccelKind::Brute, geometry, &BuildOptions::default())
 }
 
 /// Bounds of the scene, or a unit box for an empty one (rays need somewhere to start).

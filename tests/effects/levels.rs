@@ -201,9 +201,9 @@ fn aov_rays_only_when_the_output_has_aov_layers() {
         matte(0.5),
         vec![point(Vec3::Y * 5.0, 50.0)],
     ));
-    let accel = lumis::accel::Accel::build(
+    let accel = lumis::accel::Accel::build_for(
         lumis::accel::AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
+        scene.geometry(),
         &lumis::accel::BuildOptions::default(),
     );
     let png_only = RenderOptions {

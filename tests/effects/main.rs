@@ -17,11 +17,7 @@ use lumis::scene::Scene;
 
 /// Renders `scene` under `mode` with every AOV layer.
 pub fn render_mode(scene: &Scene, mode: EffectMode) -> Rendered {
-    let accel = Accel::build(
-        AccelKind::Sah,
-        &scene.geometry().prim_bounds(),
-        &BuildOptions::default(),
-    );
+    let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
     let opts = RenderOptions {
         effects: mode,
         ..RenderOptions::default()

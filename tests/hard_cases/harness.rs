@@ -43,9 +43,12 @@ impl<'a> Everywhere<'a> {
                 let opts = BuildOptions {
                     max_leaf_size: leaf,
                 };
-                let built = Accel::build(kind, &bounds, &opts);
+                let built = Accel::build_for(kind, geometry, &opts);
                 if let Some(bvh) = built.bvh() {
                     bvh.validate(&bounds).expect("valid hierarchy");
+                }
+                if let Some(wide) = built.wide() {
+                    wide.validate(&bounds).expect("valid wide hierarchy");
                 }
                 for t in traversals() {
                     configs.push((
@@ -129,7 +132,7 @@ pub fn render_everywhere(scene: &lumis::scene::Scene) -> lumis::film::Film {
         let opts = BuildOptions {
             max_leaf_size: kind.default_leaf_size(),
         };
-        let built = Accel::build(kind, &bounds, &opts);
+        let built = Accel::build_for(kind, scene.geometry(), &opts);
         for t in traversals() {
             let f = film(&built.clone().with_traversal(t));
             assert!(

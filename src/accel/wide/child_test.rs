@@ -1,0 +1,122 @@
+//! Testing all children of a wide node against one ray.
+//!
+//! The SIMD tests compute, lane by lane, exactly what [`crate::math::Aabb::hit_range_with`]
+//! computes for a ray with finite, non-zero reciprocal components: `(plane - o) * inv` per
+//! axis (a subtraction then a product, no fused multiply-add, so the same roundings), the
+//! larger of the entries and `t_min`, the smaller of the exits widened by the same factor and
+//! clamped to `t_max`. Choosing the near plane by the sign of the direction (the ray's octant)
+//! gives the same value as taking the minimum of both planes, because rounding is monotone.
+//! So a lane is culled exactly when the scalar test would cull its box, and the traversal's
+//! answers stay those of brute force. Every other ray (a zero or extreme component) goes
+//! through [`LaneByLane`], which applies the scalar slab test the ray needs to each lane.
+
+use super::{EMPTY_LANE, WideNode};
+use crate::accel::slab::Slab;
+use crate::math::{ROBUST_BOX_SCALE, Ray};
+
+/// Decides which children of a node a ray enters within `[t_min, t_max]`.
+pub(crate) trait ChildTest<const W: usize>: Copy {
+    /// A bit per entered lane, and each lane's conservative entry distance.
+    fn test(&self, node: &WideNode<W>, t_min: f32, t_max: f32) -> (u32, [f32; W]);
+}
+
+/// Any slab test, one lane at a time: the path for rays the SIMD tests do not cover, and for
+/// CPUs without them.
+#[derive(Clone, Copy)]
+pub(crate) struct LaneByLane<S: Slab>(pub S);
+
+impl<const W: usize, S: Slab> ChildTest<W> for LaneByLane<S> {
+    #[inline(always)]
+    fn test(&self, node: &WideNode<W>, t_min: f32, t_max: f32) -> (u32, [f32; W]) {
+        let mut mask = 0;
+        let mut near = [f32::INFINITY; W];
+        for (lane, near) in near.iter_mut().enumerate() {
+            if node.count[lane] == EMPTY_LANE {
+                continue;
+            }
+            if let Some((n, _)) = self.0.range(&node.bounds(lane), t_min, t_max) {
+                *near = n;
+                mask |= 1 << lane;
+            }
+        }
+        (mask, near)
+    }
+}
+
+/// Per-ray constants of the SIMD tests: origin, reciprocal direction, and for each axis which
+/// plane (0 = min, 1 = max) the ray enters by.
+#[derive(Clone, Copy)]
+pub(crate) struct Octant {
+    origin: [f32; 3],
+    inv: [f32; 3],
+    near_plane: [usize; 3],
+}
+
+impl Octant {
+    /// For a ray whose reciprocal direction `inv` is finite and non-zero in every component.
+    #[inline(always)]
+    pub(crate) fn new(ray: &Ray, inv: [f32; 3]) -> Self {
+        let plane = |a: usize| if inv[a] >= 0.0 { 0 } else { 1 };
+        Self {
+            origin: ray.origin.to_array(),
+            inv,
+            near_plane: [plane(0), 2 + plane(1), 4 + plane(2)],
+        }
+    }
+}
+
+/// The 8-lane test in AVX2 registers. Only constructed once the CPU is known to have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+pub(crate) struct Avx2(pub Octant);
+
+#[cfg(target_arch = "x86_64")]
+impl ChildTest<8> for Avx2 {
+    #[inline(always)]
+    fn test(&self, node: &WideNode<8>, t_min: f32, t_max: f32) -> (u32, [f32; 8]) {
+        // SAFETY: `Avx2` values exist only where AVX2 was detected at run time.
+        unsafe { avx2_test(&self.0, node, t_min, t_max) }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn avx2_test(o: &Octant, node: &WideNode<8>, t_min: f32, t_max: f32) -> (u32, [f32; 8]) {
+    use std::arch::x86_64::*;
+    let p = &node.planes;
+    // SAFETY: each plane row is 8 contiguous f32 (unaligned loads).
+    let load = |i: usize| unsafe { _mm256_loadu_ps(p[i].as_ptr()) };
+    let axis = |a: usize| {
+        let (org, inv) = (_mm256_set1_ps(o.origin[a]), _mm256_set1_ps(o.inv[a]));
+        let near = _mm256_mul_ps(_mm256_sub_ps(load(o.near_plane[a]), org), inv);
+        let far = _mm256_mul_ps(_mm256_sub_ps(load(o.near_plane[a] ^ 1), org), inv);
+        (near, far)
+    };
+    let ((nx, fx), (ny, fy), (nz, fz)) = (axis(0), axis(1), axis(2));
+    let near = _mm256_max_ps(
+        _mm256_max_ps(nx, ny),
+        _mm256_max_ps(nz, _mm256_set1_ps(t_min)),
+    );
+    let far = _mm256_min_ps(_mm256_min_ps(fx, fy), fz);
+    let widened = _mm256_max_ps(far, _mm256_mul_ps(far, _mm256_set1_ps(ROBUST_BOX_SCALE)));
+    let far = _mm256_min_ps(widened, _mm256_set1_ps(t_max));
+    let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(near, far)) as u32;
+    let mut out = [0.0f32; 8];
+    // SAFETY: `out` holds 8 f32.
+    unsafe { _mm256_storeu_ps(out.as_mut_ptr(), near) };
+    (mask, out)
+}
+
+/// True when the AVX2 test may be used (detected once; the standard library caches it).
+#[inline(always)]
+pub(crate) fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}

@@ -1,0 +1,250 @@
+//! A wide bounding-volume hierarchy: the binary SAH tree collapsed into nodes of `W` children
+//! whose boxes are stored structure-of-arrays, so one SIMD slab test (AVX2 for 8, SSE for 4)
+//! decides all of them at once.
+//!
+//! A child lane is an interior node (index into `nodes`), a leaf (a range of `prim_order`), or
+//! unused (an empty box that no finite ray enters). The leaves are the binary tree's leaves,
+//! unchanged, so the primitives a ray reaches are the same; only the boxes visited on the way
+//! differ, and they are culled with the same conservative bound as the binary traversal
+//! ([`super::bvh::CullBound`]), which keeps every answer identical to brute force.
+
+mod child_test;
+mod traverse;
+
+use super::bvh::{Bvh, MAX_DEPTH, Node};
+use crate::math::{Aabb, Vec3};
+
+/// Marks an unused child lane in [`WideNode::count`].
+pub(crate) const EMPTY_LANE: u32 = u32::MAX;
+
+/// Every leaf starts at a multiple of this in `prim_order`, so leaf data laid out in groups
+/// of this many primitives (see `geometry::TrianglePack`) is found by `first / LEAF_ALIGN`.
+pub const LEAF_ALIGN: usize = 4;
+
+/// Fills the `prim_order` gaps that align the leaves; never inside a leaf's range.
+pub const PADDING: u32 = u32::MAX;
+
+/// One node: the boxes of up to `W` children, one array per box plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+pub struct WideNode<const W: usize> {
+    /// `[min x, max x, min y, max y, min z, max z]`, one lane per child. Unused lanes hold the
+    /// empty box (`min = +inf`, `max = -inf`).
+    pub(crate) planes: [[f32; W]; 6],
+    /// Interior child: its node index. Leaf: its first entry in `prim_order`.
+    pub(crate) child: [u32; W],
+    /// Leaf: its primitive count (> 0). Interior: 0. Unused: [`EMPTY_LANE`].
+    pub(crate) count: [u32; W],
+}
+
+impl<const W: usize> WideNode<W> {
+    const UNUSED: Self = Self {
+        planes: [
+            [f32::INFINITY; W],
+            [f32::NEG_INFINITY; W],
+            [f32::INFINITY; W],
+            [f32::NEG_INFINITY; W],
+            [f32::INFINITY; W],
+            [f32::NEG_INFINITY; W],
+        ],
+        child: [0; W],
+        count: [EMPTY_LANE; W],
+    };
+
+    /// The box of lane `i`.
+    #[inline(always)]
+    pub(crate) fn bounds(&self, i: usize) -> Aabb {
+        let p = &self.planes;
+        Aabb {
+            min: Vec3::new(p[0][i], p[2][i], p[4][i]),
+            max: Vec3::new(p[1][i], p[3][i], p[5][i]),
+        }
+    }
+
+    fn set(&mut self, i: usize, bounds: &Aabb, child: u32, count: u32) {
+        for axis in 0..3 {
+            self.planes[2 * axis][i] = bounds.min[axis];
+            self.planes[2 * axis + 1][i] = bounds.max[axis];
+        }
+        self.child[i] = child;
+        self.count[i] = count;
+    }
+}
+
+/// A built wide hierarchy. Node 0 is the root; `bounds` is the root's box.
+#[derive(Clone, Debug)]
+pub struct WideBvh<const W: usize> {
+    nodes: Vec<WideNode<W>>,
+    prim_order: Vec<u32>,
+    bounds: Aabb,
+}
+
+/// The width the renderer uses: 8 lanes, one AVX2 register per plane (see BENCHMARKS.md for
+/// the 4-against-8 measurement).
+pub type Wide8 = WideBvh<8>;
+
+impl<const W: usize> WideBvh<W> {
+    /// Collapses a binary hierarchy: each wide node takes the binary node's two children and
+    /// keeps opening its largest-area interior child until `W` children or only leaves remain
+    /// (the surface-area order opens the children a ray is most likely to enter).
+    pub fn collapse(binary: &Bvh) -> Self {
+        const {
+            assert!(
+                W >= 2 && W <= 8,
+                "the traversal stack and masks are sized for 8 lanes"
+            )
+        };
+        let bin = binary.nodes();
+        let mut wide = Self {
+            nodes: Vec::new(),
+            prim_order: Vec::with_capacity(binary.prim_order().len() * 5 / 4),
+            bounds: bin.first().map_or(Aabb::EMPTY, |n| n.bounds),
+        };
+        match bin.first() {
+            None => {}
+            Some(root) if root.is_leaf() => {
+                let mut node = WideNode::UNUSED;
+                let first = wide.place_leaf(binary, root);
+                node.set(0, &root.bounds, first, root.count);
+                wide.nodes.push(node);
+            }
+            Some(_) => {
+                wide.emit(binary, 0);
+            }
+        }
+        let len = wide.prim_order.len().next_multiple_of(LEAF_ALIGN);
+        wide.prim_order.resize(len, PADDING);
+        wide
+    }
+
+    /// Copies a binary leaf's primitives to the next aligned position; returns where it starts.
+    fn place_leaf(&mut self, binary: &Bvh, leaf: &Node) -> u32 {
+        let aligned = self.prim_order.len().next_multiple_of(LEAF_ALIGN);
+        self.prim_order.resize(aligned, PADDING);
+        self.prim_order.extend_from_slice(binary.leaf_prims(leaf));
+        aligned as u32
+    }
+
+    /// Appends the wide node for binary interior node `index`, then its subtrees; returns its index.
+    fn emit(&mut self, binary: &Bvh, index: u32) -> u32 {
+        let bin = binary.nodes();
+        let at = self.nodes.len();
+        self.nodes.push(WideNode::UNUSED);
+        let first = bin[index as usize].first;
+        let mut kids = vec![first, first + 1];
+        while kids.len() < W {
+            let widest = kids
+                .iter()
+                .enumerate()
+                .filter(|(_, k)| !bin[**k as usize].is_leaf())
+                .max_by(|a, b| {
+                    let area = |k: u32| bin[k as usize].bounds.surface_area();
+                    area(*a.1).total_cmp(&area(*b.1))
+                })
+                .map(|(i, _)| i);
+            let Some(i) = widest else { break };
+            let opened = kids.swap_remove(i);
+            let f = bin[opened as usize].first;
+            kids.extend([f, f + 1]);
+        }
+        for (lane, &k) in kids.iter().enumerate() {
+            let n = &bin[k as usize];
+            let (child, count) = if n.is_leaf() {
+                (self.place_leaf(binary, n), n.count)
+            } else {
+                (self.emit(binary, k), 0)
+            };
+            self.nodes[at].set(lane, &n.bounds, child, count);
+        }
+        at as u32
+    }
+
+    /// The nodes, root first.
+    pub fn nodes(&self) -> &[WideNode<W>] {
+        &self.nodes
+    }
+
+    /// Primitive indices in leaf order, each leaf starting at a multiple of [`LEAF_ALIGN`]
+    /// ([`PADDING`] in the gaps).
+    pub fn prim_order(&self) -> &[u32] {
+        &self.prim_order
+    }
+
+    /// Bytes of the hierarchy (nodes and primitive order), for the bytes-per-primitive figure.
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of_val(self.nodes.as_slice()) + 4 * self.prim_order.len()
+    }
+
+    /// Checks the invariants: every primitive reached exactly once, every lane's box exactly
+    /// the union of what it holds, depth within the traversal stack. Returns the first violation.
+    pub fn validate(&self, prim_bounds: &[Aabb]) -> Result<(), String> {
+        if self.nodes.is_empty() {
+            return if prim_bounds.is_empty() {
+                Ok(())
+            } else {
+                Err("no nodes for primitives".into())
+            };
+        }
+        let mut seen = vec![0u32; prim_bounds.len()];
+        let content = self.validate_node(0, 1, prim_bounds, &mut seen)?;
+        if content != self.bounds {
+            return Err(format!("root bounds {:?} are not tight", self.bounds));
+        }
+        match seen.iter().position(|&c| c != 1) {
+            Some(p) => Err(format!("primitive {p} reached {} times", seen[p])),
+            None => Ok(()),
+        }
+    }
+
+    fn validate_node(
+        &self,
+        index: u32,
+        depth: usize,
+        prim_bounds: &[Aabb],
+        seen: &mut [u32],
+    ) -> Result<Aabb, String> {
+        if depth > MAX_DEPTH {
+            return Err(format!(
+                "node {index} at depth {depth} exceeds the stack budget"
+            ));
+        }
+        let node = self
+            .nodes
+            .get(index as usize)
+            .ok_or(format!("node {index} out of range"))?;
+        let mut all = Aabb::EMPTY;
+        for lane in 0..W {
+            let (child, count) = (node.child[lane], node.count[lane]);
+            let content = match count {
+                EMPTY_LANE => Aabb::EMPTY,
+                0 if child <= index => {
+                    return Err(format!(
+                        "node {index}: child {child} does not come after it"
+                    ));
+                }
+                0 => self.validate_node(child, depth + 1, prim_bounds, seen)?,
+                _ => {
+                    let range = child as usize..(child + count) as usize;
+                    let prims = self
+                        .prim_order
+                        .get(range)
+                        .ok_or(format!("node {index} lane {lane}: leaf out of range"))?;
+                    let mut b = Aabb::EMPTY;
+                    for &p in prims {
+                        let pb = prim_bounds
+                            .get(p as usize)
+                            .ok_or(format!("node {index}: bad primitive {p}"))?;
+                        seen[p as usize] += 1;
+                        b = b.union(*pb);
+                    }
+                    b
+                }
+            };
+            if content != node.bounds(lane) {
+                return Err(format!("node {index} lane {lane}: bounds are not tight"));
+            }
+            all = all.union(content);
+        }
+        Ok(all)
+    }
+}
