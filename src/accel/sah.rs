@@ -1,76 +1,198 @@
-//! Binned surface-area-heuristic builder (Wald 2007): 16 centroid bins per axis, all three axes.
+//! Binned surface-area-heuristic builder (Wald 2007): 16 centroid bins on all three axes at
+//! once, in one pass over a node's primitives; a second pass partitions them and gathers both
+//! children's bounds and centroid bounds, so no node ever scans its primitives a third time.
+//! The two halves of large nodes are built in parallel (rayon); the tree does not depend on
+//! how many threads there are, and neither does its layout (see [`Subtree`]).
 
 use super::BuildOptions;
-use super::build::{build_hierarchy, partition};
-use super::bvh::Bvh;
-use crate::math::{Aabb, Vec3};
+use super::bvh::{Bvh, MAX_DEPTH, Node};
+use crate::math::{Aabb, Vec3, Vec3A};
 
 const BINS: usize = 16;
 /// Cost of one node visit relative to one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
+/// Nodes with more primitives than this build their two halves as parallel tasks.
+const PARALLEL_MIN: usize = 32 * 1024;
 
-/// Builds a SAH hierarchy over primitives with the given bounds.
-pub fn build(bounds: &[Aabb], opts: &BuildOptions) -> Bvh {
-    let centroids: Vec<Vec3> = bounds.iter().map(Aabb::center).collect();
-    let sah = Sah {
-        bounds,
-        centroids: &centroids,
+/// A box in SIMD registers.
+#[derive(Clone, Copy, Debug)]
+struct Box3 {
+    min: Vec3A,
+    max: Vec3A,
+}
+
+impl Box3 {
+    const EMPTY: Self = Self {
+        min: Vec3A::INFINITY,
+        max: Vec3A::NEG_INFINITY,
     };
-    let max_leaf = opts.max_leaf_size.max(1);
-    build_hierarchy(bounds, &mut |order, node_bounds, _depth| {
-        sah.cut(order, node_bounds, max_leaf)
-    })
-}
 
-struct Sah<'a> {
-    bounds: &'a [Aabb],
-    centroids: &'a [Vec3],
-}
-
-impl Sah<'_> {
-    /// Splits at the cheapest bin boundary when that beats a leaf (or the node is too big to
-    /// be one); `None` makes a leaf.
-    fn cut(&self, order: &mut [u32], node_bounds: &Aabb, max_leaf: usize) -> Option<usize> {
-        let n = order.len();
-        let centroid_bounds = Aabb::from_points(order.iter().map(|&p| self.centroids[p as usize]));
-        match self.best_split(order, &centroid_bounds, node_bounds) {
-            Some((axis, bin, cost)) if cost < n as f32 || n > max_leaf => {
-                let (lo, scale) = bin_mapping(&centroid_bounds, axis);
-                Some(partition(order, |p| {
-                    bin_of(self.centroids[p as usize][axis], lo, scale) < bin
-                }))
-            }
-            // All centroids coincide: no plane separates them, so halve by index to keep leaves small.
-            None if n > max_leaf => Some(n / 2),
-            _ => None,
+    #[inline(always)]
+    fn union(self, o: Self) -> Self {
+        Self {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
         }
     }
 
-    /// Best `(axis, first bin of the right side, cost)`, cost in units of primitive tests.
-    /// `None` when the centroids span no extent on any axis.
-    fn best_split(&self, order: &[u32], cb: &Aabb, nb: &Aabb) -> Option<(usize, usize, f32)> {
+    #[inline(always)]
+    fn grow(self, p: Vec3A) -> Self {
+        Self {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    /// Half the surface area (the factor 2 cancels in the cost ratio); 0 when empty.
+    #[inline(always)]
+    fn half_area(self) -> f32 {
+        let e = (self.max - self.min).max(Vec3A::ZERO);
+        e.x * e.y + e.y * e.z + e.z * e.x
+    }
+
+    fn aabb(self) -> Aabb {
+        Aabb {
+            min: Vec3::from(self.min),
+            max: Vec3::from(self.max),
+        }
+    }
+}
+
+/// What the builder reads of each primitive.
+struct Prims {
+    bounds: Vec<Box3>,
+    centroids: Vec<Vec3A>,
+    max_leaf: usize,
+}
+
+/// A node's primitives with the bounds of their boxes and of their centroids.
+struct Span<'a> {
+    order: &'a mut [u32],
+    bounds: Box3,
+    centroid_bounds: Box3,
+}
+
+/// A subtree built on its own: its root at 0, children pairs after; `first` of interior nodes
+/// indexes this vector, `first` of leaves the final primitive order.
+struct Subtree {
+    nodes: Vec<Node>,
+}
+
+/// Builds a SAH hierarchy over primitives with the given bounds.
+pub fn build(bounds: &[Aabb], opts: &BuildOptions) -> Bvh {
+    if bounds.is_empty() {
+        return Bvh::from_parts(Vec::new(), Vec::new());
+    }
+    let prims = Prims {
+        bounds: bounds
+            .iter()
+            .map(|b| Box3 {
+                min: b.min.into(),
+                max: b.max.into(),
+            })
+            .collect(),
+        centroids: bounds.iter().map(|b| Vec3A::from(b.center())).collect(),
+        max_leaf: opts.max_leaf_size.max(1),
+    };
+    let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
+    let (mut all, mut centroid_bounds) = (Box3::EMPTY, Box3::EMPTY);
+    for (b, c) in prims.bounds.iter().zip(&prims.centroids) {
+        all = all.union(*b);
+        centroid_bounds = centroid_bounds.grow(*c);
+    }
+    let span = Span {
+        order: &mut order,
+        bounds: all,
+        centroid_bounds,
+    };
+    let tree = prims.subtree(span, 0, 0);
+    Bvh::from_parts(tree.nodes, order)
+}
+
+impl Prims {
+    /// Builds the subtree over `span`, whose primitives start at `offset` in the final order.
+    fn subtree(&self, span: Span<'_>, offset: usize, depth: usize) -> Subtree {
+        let mut nodes = vec![leaf(&span, offset)];
+        self.fill(&mut nodes, 0, span, offset, depth);
+        Subtree { nodes }
+    }
+
+    /// Makes `nodes[index]` the node over `span` (a leaf, or an interior node whose subtrees
+    /// are appended).
+    fn fill(
+        &self,
+        nodes: &mut Vec<Node>,
+        index: usize,
+        span: Span<'_>,
+        offset: usize,
+        depth: usize,
+    ) {
+        nodes[index] = leaf(&span, offset);
+        let n = span.order.len();
+        if n <= 1 || depth + 1 >= MAX_DEPTH {
+            return;
+        }
+        let Some((left, right)) = self.split(span) else {
+            return;
+        };
+        let first = nodes.len();
+        nodes[index].first = first as u32;
+        nodes[index].count = 0;
+        let left_n = left.order.len();
+        nodes.extend([leaf(&left, offset), leaf(&right, offset + left_n)]);
+        if n >= PARALLEL_MIN {
+            let (l, r) = rayon::join(
+                || self.subtree(left, offset, depth + 1),
+                || self.subtree(right, offset + left_n, depth + 1),
+            );
+            graft(nodes, first, l);
+            graft(nodes, first + 1, r);
+        } else {
+            self.fill(nodes, first, left, offset, depth + 1);
+            self.fill(nodes, first + 1, right, offset + left_n, depth + 1);
+        }
+    }
+
+    /// Splits at the cheapest bin boundary when that beats a leaf (or the node is too big to
+    /// be one); `None` makes a leaf.
+    fn split<'a>(&self, span: Span<'a>) -> Option<(Span<'a>, Span<'a>)> {
+        let n = span.order.len();
+        let cb = span.centroid_bounds;
+        let extent = cb.max - cb.min;
+        // Bins per unit along each axis; 0 for an axis the centroids do not span.
+        let scale = Vec3A::select(
+            extent.cmpgt(Vec3A::ZERO),
+            Vec3A::splat(BINS as f32) / extent,
+            Vec3A::ZERO,
+        );
+        let mut bins = [[(Box3::EMPTY, 0u32); BINS]; 3];
+        for &p in span.order.iter() {
+            let c = self.centroids[p as usize];
+            let b = self.bounds[p as usize];
+            let at = (c - cb.min) * scale;
+            for axis in 0..3 {
+                let bin = bin_index(at[axis]);
+                let slot = &mut bins[axis][bin];
+                slot.0 = slot.0.union(b);
+                slot.1 += 1;
+            }
+        }
+        let parent_area = span.bounds.half_area().max(f32::MIN_POSITIVE);
         let mut best: Option<(usize, usize, f32)> = None;
-        let parent_area = nb.surface_area().max(f32::MIN_POSITIVE);
         for axis in 0..3 {
-            if cb.max[axis] <= cb.min[axis] {
+            if scale[axis] == 0.0 {
                 continue;
             }
-            let (lo, scale) = bin_mapping(cb, axis);
-            let mut bins = [(Aabb::EMPTY, 0u32); BINS];
-            for &p in order {
-                let b = bin_of(self.centroids[p as usize][axis], lo, scale);
-                bins[b].0 = bins[b].0.union(self.bounds[p as usize]);
-                bins[b].1 += 1;
-            }
+            let bins = &bins[axis];
             // Sweep from the right to get the area and count right of each boundary.
             let mut right = [(0.0f32, 0u32); BINS];
-            let (mut rb, mut rc) = (Aabb::EMPTY, 0);
+            let (mut rb, mut rc) = (Box3::EMPTY, 0);
             for i in (1..BINS).rev() {
                 rb = rb.union(bins[i].0);
                 rc += bins[i].1;
-                right[i] = (rb.surface_area(), rc);
+                right[i] = (rb.half_area(), rc);
             }
-            let (mut lb, mut lc) = (Aabb::EMPTY, 0);
+            let (mut lb, mut lc) = (Box3::EMPTY, 0);
             for i in 1..BINS {
                 lb = lb.union(bins[i - 1].0);
                 lc += bins[i - 1].1;
@@ -79,24 +201,106 @@ impl Sah<'_> {
                     continue;
                 }
                 let cost =
-                    TRAVERSAL_COST + (lb.surface_area() * lc as f32 + ra * rc as f32) / parent_area;
+                    TRAVERSAL_COST + (lb.half_area() * lc as f32 + ra * rc as f32) / parent_area;
                 if best.is_none_or(|b| cost < b.2) {
                     best = Some((axis, i, cost));
                 }
             }
         }
-        best
+        match best {
+            Some((axis, bin, cost)) if cost < n as f32 || n > self.max_leaf => {
+                let (lo, s) = (cb.min[axis], scale[axis]);
+                Some(self.partition(span, |c| bin_index((c[axis] - lo) * s) < bin))
+            }
+            // All centroids coincide: no plane separates them, so halve by index to keep leaves small.
+            None if n > self.max_leaf => {
+                let mid = n / 2;
+                Some(self.partition_at(span, mid))
+            }
+            _ => None,
+        }
+    }
+
+    /// Moves the primitives whose centroid satisfies `left` to the front, gathering both sides'
+    /// bounds and centroid bounds on the way.
+    fn partition<'a>(&self, span: Span<'a>, left: impl Fn(Vec3A) -> bool) -> (Span<'a>, Span<'a>) {
+        let order = span.order;
+        let (mut lb, mut lc, mut rb, mut rc) = (Box3::EMPTY, Box3::EMPTY, Box3::EMPTY, Box3::EMPTY);
+        let mut mid = 0;
+        for i in 0..order.len() {
+            let p = order[i] as usize;
+            let c = self.centroids[p];
+            if left(c) {
+                lb = lb.union(self.bounds[p]);
+                lc = lc.grow(c);
+                order.swap(i, mid);
+                mid += 1;
+            } else {
+                rb = rb.union(self.bounds[p]);
+                rc = rc.grow(c);
+            }
+        }
+        let (l, r) = order.split_at_mut(mid);
+        (
+            Span {
+                order: l,
+                bounds: lb,
+                centroid_bounds: lc,
+            },
+            Span {
+                order: r,
+                bounds: rb,
+                centroid_bounds: rc,
+            },
+        )
+    }
+
+    /// Splits at position `mid` of the current order.
+    fn partition_at<'a>(&self, span: Span<'a>, mid: usize) -> (Span<'a>, Span<'a>) {
+        let (l, r) = span.order.split_at_mut(mid);
+        let side = |order: &'a mut [u32]| {
+            let (mut b, mut c) = (Box3::EMPTY, Box3::EMPTY);
+            for &p in order.iter() {
+                b = b.union(self.bounds[p as usize]);
+                c = c.grow(self.centroids[p as usize]);
+            }
+            Span {
+                order,
+                bounds: b,
+                centroid_bounds: c,
+            }
+        };
+        (side(l), side(r))
     }
 }
 
-/// Origin and bins-per-unit of the binning along `axis` of the centroid bounds.
-fn bin_mapping(cb: &Aabb, axis: usize) -> (f32, f32) {
-    (cb.min[axis], BINS as f32 / (cb.max[axis] - cb.min[axis]))
+/// The bin of a centroid's scaled offset; the same formula for binning and partitioning, so
+/// the partition matches the counts the cost was computed from.
+#[inline(always)]
+fn bin_index(at: f32) -> usize {
+    (at as usize).min(BINS - 1)
 }
 
-/// The bin of a centroid coordinate; the same formula for binning and partitioning, so the
-/// partition matches the counts the cost was computed from.
-#[inline(always)]
-fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
-    (((c - lo) * scale) as usize).min(BINS - 1)
+/// A leaf over `span`, whose primitives start at `offset`.
+fn leaf(span: &Span<'_>, offset: usize) -> Node {
+    Node {
+        bounds: span.bounds.aabb(),
+        first: offset as u32,
+        count: span.order.len() as u32,
+    }
+}
+
+/// Puts a separately built subtree's root at `nodes[at]` and appends the rest, renumbering.
+fn graft(nodes: &mut Vec<Node>, at: usize, sub: Subtree) {
+    // The subtree's node i > 0 lands at base + i - 1.
+    let base = nodes.len();
+    let place = |i: u32| (base + i as usize - 1) as u32;
+    let fix = |mut n: Node| {
+        if !n.is_leaf() {
+            n.first = place(n.first);
+        }
+        n
+    };
+    nodes[at] = fix(sub.nodes[0]);
+    nodes.extend(sub.nodes[1..].iter().map(|&n| fix(n)));
 }
