@@ -27,7 +27,10 @@ what Mitsuba's `direct` integrator computes for a `diffuse` BSDF and a `point` e
 `intensity` is also radiant intensity, once lumis's ambient term (default 0.05) is set to 0 in
 the TOML. Mitsuba's `direct` is given `emitter_samples = 1, bsdf_samples = 0`: a BSDF-sampled
 ray can never hit a point light, so it would only cost time; with these settings both engines
-trace the same rays per sample (one camera ray, one shadow ray towards the light). No
+trace one camera ray per sample and at most one shadow ray towards the light. (Mitsuba traces
+its shadow ray inside `sample_emitter_direction`, before the BSDF is evaluated, so at every hit,
+also where the surface faces away from the light; lumis casts one only where the unshadowed
+contribution is non-zero. So Mitsuba traces somewhat more shadow rays than lumis reports.) No
 secondary bounces exist in either (lumis's `max_depth` has nothing to reflect or refract).
 So the exposure-matching scale printed beside the error should be 1 up to noise: it is a check
 of the units, not a fudge.
@@ -97,7 +100,7 @@ llvm_ad_rgb variant needs a shared libLLVM at run time, which the mitsuba wheel 
 on Debian bookworm `apt-get install libllvm15` (Dr.Jit finds /usr/lib/x86_64-linux-gnu/
 libLLVM-15.so.1 by itself; elsewhere point DRJIT_LIBLLVM_PATH at a libLLVM.so). Without it,
 --variants scalar_rgb still runs. lumis is $LUMIS_BIN or target/release/lumis of this checkout.
-A full run (1280x720, 16 spp, 3 rounds) takes about 3 minutes on 2 cores.
+A full run (1280x720, 16 spp, 3 rounds) takes about 100 s on 2 (busy) cores.
 """
 
 from __future__ import annotations
