@@ -236,9 +236,7 @@ impl Query {
         let Some(Hit { prim, hit }) = scene.intersect_hit(accel, ray, stats) else {
             return MISS;
         };
-        let mut hit_ray = *ray;
-        hit_ray.t_max = hit.t;
-        let n = g.surface(prim, &hit_ray, &hit).ng;
+        let n = g.geometric_normal(prim, ray, &hit);
         let kind = match g.prims()[prim as usize] {
             Primitive::Sphere { .. } => 0.0,
             Primitive::Triangle { .. } => 1.0,

@@ -160,19 +160,21 @@ impl Prims {
         let cb = span.centroid_bounds;
         let extent = cb.max - cb.min;
         // Bins per unit along each axis; 0 for an axis the centroids do not span.
+        // (An extent so small that BINS / extent overflows counts as none: the offsets below
+        // must stay finite.)
+        let per_unit = Vec3A::splat(BINS as f32) / extent;
         let scale = Vec3A::select(
-            extent.cmpgt(Vec3A::ZERO),
-            Vec3A::splat(BINS as f32) / extent,
+            extent.cmpgt(Vec3A::ZERO) & per_unit.is_finite_mask(),
+            per_unit,
             Vec3A::ZERO,
         );
         let mut bins = [[(Box3::EMPTY, 0u32); BINS]; 3];
         for &p in span.order.iter() {
             let c = self.centroids[p as usize];
             let b = self.bounds[p as usize];
-            let at = (c - cb.min) * scale;
+            let bin = bin_indices((c - cb.min) * scale);
             for axis in 0..3 {
-                let bin = bin_index(at[axis]);
-                let slot = &mut bins[axis][bin];
+                let slot = &mut bins[axis][bin[axis] as usize];
                 slot.0 = slot.0.union(b);
                 slot.1 += 1;
             }
@@ -185,19 +187,27 @@ impl Prims {
             }
             let bins = &bins[axis];
             // Sweep from the right to get the area and count right of each boundary.
+            // A boundary right after an empty bin costs the same as the one before it, which
+            // wins the strict comparison below, so only boundaries after a full bin are priced
+            // (the same choice, fewer areas on the small nodes deep in the tree).
             let mut right = [(0.0f32, 0u32); BINS];
             let (mut rb, mut rc) = (Box3::EMPTY, 0);
             for i in (1..BINS).rev() {
                 rb = rb.union(bins[i].0);
                 rc += bins[i].1;
-                right[i] = (rb.half_area(), rc);
+                if bins[i - 1].1 > 0 {
+                    right[i] = (rb.half_area(), rc);
+                }
             }
             let (mut lb, mut lc) = (Box3::EMPTY, 0);
             for i in 1..BINS {
+                if bins[i - 1].1 == 0 {
+                    continue;
+                }
                 lb = lb.union(bins[i - 1].0);
                 lc += bins[i - 1].1;
                 let (ra, rc) = right[i];
-                if lc == 0 || rc == 0 {
+                if rc == 0 {
                     continue;
                 }
                 let cost =
@@ -274,11 +284,34 @@ impl Prims {
     }
 }
 
-/// The bin of a centroid's scaled offset; the same formula for binning and partitioning, so
-/// the partition matches the counts the cost was computed from.
+/// The bin of a centroid's scaled offset (finite, >= 0); the same result for binning and
+/// partitioning, so the partition matches the counts the cost was computed from.
 #[inline(always)]
 fn bin_index(at: f32) -> usize {
     (at as usize).min(BINS - 1)
+}
+
+/// [`bin_index`] of three offsets at once: truncating `min(at, BINS - 1)` is the same as
+/// truncating and then clamping, for finite non-negative offsets.
+#[inline(always)]
+fn bin_indices(at: Vec3A) -> [u32; 4] {
+    let clamped = at.min(Vec3A::splat((BINS - 1) as f32));
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        let mut out = [0u32; 4];
+        // SAFETY: SSE2 is part of the x86-64 baseline; `out` holds four u32.
+        unsafe {
+            let v = _mm_cvttps_epi32(clamped.into());
+            _mm_storeu_si128(out.as_mut_ptr().cast(), v);
+        }
+        out
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let c = clamped.to_array();
+        [c[0] as u32, c[1] as u32, c[2] as u32, 0]
+    }
 }
 
 /// A leaf over `span`, whose primitives start at `offset`.

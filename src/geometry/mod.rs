@@ -211,6 +211,21 @@ impl Geometry {
         }
     }
 
+    /// The unit geometric normal of a hit: [`SurfacePoint::ng`] of [`Geometry::surface`],
+    /// without the rest of the surface (for hit records).
+    pub fn geometric_normal(&self, index: u32, ray: &Ray, hit: &PrimHit) -> Vec3 {
+        match self.prims[index as usize] {
+            Primitive::Sphere { sphere } => {
+                let (d, len) = sphere_offset(&self.spheres[sphere as usize], ray, hit);
+                sphere_normal(d, len)
+            }
+            Primitive::Triangle { mesh, tri } => {
+                let [p0, p1, p2] = self.meshes[mesh as usize].corners(tri);
+                face_normal(p0, p1, p2).normalize_or(Vec3::Y)
+            }
+        }
+    }
+
     /// Surface geometry of a hit on primitive `index` at `ray.at(hit.t)`.
     pub fn surface(&self, index: u32, ray: &Ray, hit: &PrimHit) -> SurfacePoint {
         match self.prims[index as usize] {
@@ -220,9 +235,7 @@ impl Geometry {
                 // the sphere in f64 leaves only the final rounding to f32 as error, and that
                 // rounding is known exactly.
                 let c = s.center.as_dvec3();
-                let q = ray.origin.as_dvec3() + ray.dir.as_dvec3() * hit.t as f64;
-                let d = q - c;
-                let len = d.length();
+                let (d, len) = sphere_offset(s, ray, hit);
                 let exact = if len > 0.0 {
                     c + d * (s.radius as f64 / len)
                 } else {
@@ -231,12 +244,7 @@ impl Geometry {
                 // The f64 projection itself: a few f64 ulps of the centre and the radius.
                 let slack = (c.abs() + DVec3::splat(s.radius as f64)) * (8.0 * f64::EPSILON);
                 let (p, p_error) = rounded_with_error(exact, slack);
-                // From the f64 offset: `p - center` in f32 loses digits on huge spheres.
-                let n = if len > 0.0 {
-                    (d / len).as_vec3()
-                } else {
-                    Vec3::Y
-                };
+                let n = sphere_normal(d, len);
                 let (u, v) = s.uv_at(p);
                 SurfacePoint {
                     p,
@@ -271,6 +279,23 @@ impl Geometry {
                 }
             }
         }
+    }
+}
+
+/// The hit point's offset from a sphere's centre in f64, and its length.
+fn sphere_offset(s: &Sphere, ray: &Ray, hit: &PrimHit) -> (DVec3, f64) {
+    let q = ray.origin.as_dvec3() + ray.dir.as_dvec3() * hit.t as f64;
+    let d = q - s.center.as_dvec3();
+    (d, d.length())
+}
+
+/// The unit normal along a sphere hit's f64 offset: `p - center` in f32 loses digits on huge
+/// spheres.
+fn sphere_normal(d: DVec3, len: f64) -> Vec3 {
+    if len > 0.0 {
+        (d / len).as_vec3()
+    } else {
+        Vec3::Y
     }
 }
 

@@ -28,6 +28,8 @@ const BOUND_MARGIN: f32 = 1.0 + 1.0 / 256.0;
 #[repr(C, align(16))]
 struct Group {
     v: [[f32; LANES]; 9],
+    /// The primitive of each lane, so a candidate needs no look-up in `prim_order`.
+    prim: [u32; LANES],
 }
 
 /// A scene's triangles in the order of one hierarchy's `prim_order`.
@@ -45,8 +47,10 @@ impl PackedLeaves {
             .map(|chunk| {
                 let mut g = Group {
                     v: [[f32::NAN; LANES]; 9],
+                    prim: [PADDING; LANES],
                 };
                 for (lane, &p) in chunk.iter().enumerate() {
+                    g.prim[lane] = p;
                     if p == PADDING {
                         continue;
                     }
@@ -196,16 +200,20 @@ impl<'a> PackedWatertight<'a> {
         mut f: impl FnMut(usize, usize, u32) -> bool,
     ) {
         let g0 = first as usize / LANES;
-        for (i, chunk) in prims.chunks(LANES).enumerate() {
-            let g = g0 + i;
-            let mut mask = self.candidates(g) & ((1 << chunk.len()) - 1);
+        let mut left = prims.len();
+        let mut g = g0;
+        while left > 0 {
+            let lanes = left.min(LANES);
+            let mut mask = self.candidates(g) & ((1 << lanes) - 1);
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
-                if f(g, lane, chunk[lane]) {
+                if f(g, lane, self.packed.groups[g].prim[lane]) {
                     return;
                 }
             }
+            left -= lanes;
+            g += 1;
         }
     }
 }
