@@ -62,10 +62,11 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
     args.accuracy.apply(scene.settings_mut())?;
     let load_s = start.elapsed().as_secs_f64();
     let rays = read_rays(&args.rays)?;
-    let start = Instant::now();
-    let accel = accel_kind.build(scene.geometry());
-    let build_s = start.elapsed().as_secs_f64();
+    // The build runs on the same workers as the tracing, so `--threads 1` builds on one thread.
     let run = || {
+        let start = Instant::now();
+        let accel = accel_kind.build(scene.geometry());
+        let build_s = start.elapsed().as_secs_f64();
         let mut hits = Vec::new();
         let mut trace_s = Vec::with_capacity(args.repeat as usize);
         for _ in 0..args.repeat {
@@ -73,9 +74,9 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
             hits = trace_rays(&scene, &accel, &rays, args.any_hit);
             trace_s.push(start.elapsed().as_secs_f64());
         }
-        (hits, trace_s)
+        (accel, build_s, hits, trace_s)
     };
-    let (hits, trace_s) = match args.threads {
+    let (accel, build_s, hits, trace_s) = match args.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
@@ -96,9 +97,12 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
     if let Some(path) = &args.timings {
         let runs: Vec<String> = trace_s.iter().map(|s| format!("{s:e}")).collect();
         let json = format!(
-            "{{\"rays\": {}, \"load_s\": {load_s:e}, \"build_s\": {build_s:e}, \"trace_s\": [{}]}}\n",
+            "{{\"rays\": {}, \"load_s\": {load_s:e}, \"build_s\": {build_s:e}, \"trace_s\": [{}], \"prims\": {}, \"geometry_bytes\": {}, \"accel_bytes\": {}}}\n",
             rays.len(),
-            runs.join(", ")
+            runs.join(", "),
+            scene.geometry().prims().len(),
+            scene.geometry().bytes(),
+            accel.bytes()
         );
         write_text(path, &json)?;
     }

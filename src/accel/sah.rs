@@ -4,13 +4,20 @@
 //! The two halves of large nodes are built in parallel (rayon); the tree does not depend on
 //! how many threads there are, and neither does its layout (see [`Subtree`]).
 
-use super::BuildOptions;
 use super::bvh::{Bvh, MAX_DEPTH, Node};
+use super::{BuildOptions, LEAF_ALIGN};
 use crate::math::{Aabb, Vec3, Vec3A};
 
 const BINS: usize = 16;
-/// Cost of one node visit relative to one primitive test.
+/// Cost of one node visit relative to testing one group of [`LEAF_ALIGN`] primitives: the wide
+/// hierarchy tests a node's boxes and a leaf's group of triangles with one SIMD test each.
 const TRAVERSAL_COST: f32 = 1.0;
+
+/// The cost of testing `n` primitives: whole groups, so leaves fill their groups.
+#[inline(always)]
+fn leaf_cost(n: u32) -> f32 {
+    n.div_ceil(LEAF_ALIGN as u32) as f32
+}
 /// Nodes with more primitives than this build their two halves as parallel tasks.
 const PARALLEL_MIN: usize = 32 * 1024;
 
@@ -210,15 +217,15 @@ impl Prims {
                 if rc == 0 {
                     continue;
                 }
-                let cost =
-                    TRAVERSAL_COST + (lb.half_area() * lc as f32 + ra * rc as f32) / parent_area;
+                let cost = TRAVERSAL_COST
+                    + (lb.half_area() * leaf_cost(lc) + ra * leaf_cost(rc)) / parent_area;
                 if best.is_none_or(|b| cost < b.2) {
                     best = Some((axis, i, cost));
                 }
             }
         }
         match best {
-            Some((axis, bin, cost)) if cost < n as f32 || n > self.max_leaf => {
+            Some((axis, bin, cost)) if cost < leaf_cost(n as u32) || n > self.max_leaf => {
                 let (lo, s) = (cb.min[axis], scale[axis]);
                 Some(self.partition(span, |c| bin_index((c[axis] - lo) * s) < bin))
             }

@@ -34,6 +34,20 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// Bytes of its arrays (positions, indices and the optional normals and uvs).
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of_val(self.positions.as_slice())
+            + std::mem::size_of_val(self.indices.as_slice())
+            + self
+                .normals
+                .as_ref()
+                .map_or(0, |n| std::mem::size_of_val(n.as_slice()))
+            + self
+                .uvs
+                .as_ref()
+                .map_or(0, |u| std::mem::size_of_val(u.as_slice()))
+    }
+
     /// Builds a mesh, checking that every index is in range, every position is finite and
     /// every attribute array has one entry per vertex.
     pub fn new(

@@ -109,6 +109,13 @@ impl Geometry {
         first..self.prims.len() as u32
     }
 
+    /// Bytes of the shapes and the primitive list (what the scene holds before any hierarchy).
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of_val(self.spheres.as_slice())
+            + self.meshes.iter().map(Mesh::bytes).sum::<usize>()
+            + std::mem::size_of_val(self.prims.as_slice())
+    }
+
     /// The primitive list.
     pub fn prims(&self) -> &[Primitive] {
         &self.prims
