@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import shlex
 import statistics
@@ -101,6 +102,10 @@ def parse_args(argv=None):
                    help="supersamples per axis, both programs (default 1, the paper's)")
     p.add_argument("--threads", type=int, default=2,
                    help="threads of both programs (OMP_NUM_THREADS, --threads; default 2)")
+    p.add_argument("--timeout", type=float, default=300, metavar="S",
+                   help="kill a run of the original after S seconds (default 300); that variant "
+                   "is then skipped on that scene in later rounds and its median counts as "
+                   "'> S', so it cannot be the fastest unless every variant timed out")
     p.add_argument("--diff-variant", default=None,
                    help="the variant whose image the printed difference is against (default "
                    "bsp when it runs, else the first chosen)")
@@ -181,9 +186,24 @@ def run_lumis(exe: Path, scene: Path, png: Path, stats: Path, a) -> dict:
 
 
 def run_variant(exe: Path, scene: Path, tga: Path, a) -> dict:
-    wall, stdout = paper.run_original(exe, scene, tga, width=a.width, height=a.height,
-                                      spp=a.spp, threads=a.threads, scenes_dir=a.scene_dir)
+    """One run of the original: wall seconds (None when it hit --timeout) and its ray count."""
+    try:
+        wall, stdout = paper.run_original(exe, scene, tga, width=a.width, height=a.height,
+                                          spp=a.spp, threads=a.threads, scenes_dir=a.scene_dir,
+                                          timeout=a.timeout)
+    except subprocess.TimeoutExpired:
+        tga.unlink(missing_ok=True)  # a partial image must not be compared
+        return {"wall_s": None, "rays": None}
     return {"wall_s": wall, "rays": paper.rays_cast(stdout)}
+
+
+def seconds(run: dict) -> float:
+    """A run's wall seconds, a timed-out run's as infinity (slower than any finished one)."""
+    return math.inf if run["wall_s"] is None else run["wall_s"]
+
+
+def fmt_s(x: float, timeout: float) -> str:
+    return f"> {timeout:g}" if math.isinf(x) else f"{x:.3f}"
 
 
 def rotated(items: list, by: int) -> list:
@@ -213,9 +233,14 @@ def measure(a, exes: dict[str, Path], lumis_exe: Path, work: Path) -> dict:
                     r = run_lumis(lumis_exe, scene, work / f"{name}.lumis.png",
                                   work / f"{name}.lumis.json", a)
                     line.append(f"lumis {r['wall_s']:.2f}s (render {r['render_s']:.2f}s)")
+                elif any(x["wall_s"] is None for x in runs[name][runner]):
+                    # Timed out here before: it would again, and cost --timeout seconds.
+                    r = {"wall_s": None, "rays": None, "skipped": True}
+                    line.append(f"{runner} skipped")
                 else:
                     r = run_variant(exes[runner], scene, work / f"{name}.{runner}.tga", a)
-                    line.append(f"{runner} {r['wall_s']:.2f}s")
+                    line.append(f"{runner} timeout ({a.timeout:g}s)" if r["wall_s"] is None
+                                else f"{runner} {r['wall_s']:.2f}s")
                 runs[name][runner].append(r)
             print(f"round {round_no + 1}/{a.rounds} {name}: {', '.join(line)} "
                   f"[{time.perf_counter() - start:.0f}s]", flush=True)
@@ -229,7 +254,10 @@ def image_differences(a, work: Path) -> dict:
         ours = paper.load_rgb(work / f"{name}.lumis.png")
         out[name] = {}
         for v in a.variants:
-            theirs = paper.load_rgb(work / f"{name}.{v}.tga")
+            tga = work / f"{name}.{v}.tga"
+            if not tga.is_file():  # timed out
+                continue
+            theirs = paper.load_rgb(tga)
             out[name][v] = {"mean_abs": paper.mean_abs_diff(theirs, ours),
                             "over": paper.fraction_over(theirs, ours, DIFF_LEVELS)}
     return out
@@ -239,13 +267,14 @@ def summarise(a, runs: dict, diffs: dict) -> dict:
     """Per scene: medians of every runner, the fastest variant, ratios; and the totals."""
     scenes = {}
     for name in a.scenes:
-        medians = {v: statistics.median(r["wall_s"] for r in runs[name][v]) for v in a.variants}
+        medians = {v: statistics.median(seconds(r) for r in runs[name][v]) for v in a.variants}
         fastest = min(medians, key=medians.get)
         lumis_runs = runs[name][LUMIS]
         lumis_wall = statistics.median(r["wall_s"] for r in lumis_runs)
         lumis_render = statistics.median(r["render_s"] for r in lumis_runs)
         scenes[name] = {
-            "original_median_s": medians,
+            # JSON has no infinity: a variant that timed out has no median.
+            "original_median_s": {v: None if math.isinf(m) else m for v, m in medians.items()},
             "fastest_variant": fastest,
             "fastest_s": medians[fastest],
             "lumis_wall_s": lumis_wall,
@@ -287,8 +316,8 @@ def print_report(a, result: dict):
           f"| original/render | mean abs diff vs {dv} | > {DIFF_LEVELS}/255 |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
     for name, s in scenes.items():
-        d = s["diff"][dv]
-        print(f"| {name} | {s['fastest_variant']} | {s['fastest_s']:.3f} | "
+        d = s["diff"].get(dv, {"mean_abs": math.nan, "over": math.nan})
+        print(f"| {name} | {s['fastest_variant']} | {fmt_s(s['fastest_s'], a.timeout)} | "
               f"{s['lumis_wall_s']:.3f} | {s['ratio']:.1f} | {s['lumis_render_s']:.3f} | "
               f"{s['ratio_render']:.1f} | {d['mean_abs']:.2f} | {d['over']:.1%} |")
     print(f"| **sum** | | {total['original_fastest_sum_s']:.2f} | "
@@ -300,7 +329,8 @@ def print_report(a, result: dict):
     print("| scene | " + " | ".join(a.variants) + " |")
     print("|---|" + "---:|" * len(a.variants))
     for name, s in scenes.items():
-        cells = [f"{s['original_median_s'][v]:.3f}" for v in a.variants]
+        cells = [fmt_s(math.inf if s["original_median_s"][v] is None
+                       else s["original_median_s"][v], a.timeout) for v in a.variants]
         print(f"| {name} | " + " | ".join(cells) + " |")
 
     print()

@@ -59,16 +59,19 @@ def build_original(out_dir: Path, log: Path | None = None) -> Path:
 
 def run_original(exe: Path, scene: Path, out_tga: Path, *, width: int, height: int,
                  spp: int = 1, lens_rays: int = LENS_RAYS, threads: int = 2,
-                 scenes_dir: Path = SCENES_DIR) -> tuple[float, str]:
+                 scenes_dir: Path = SCENES_DIR,
+                 timeout: float | None = None) -> tuple[float, str]:
     """Renders `scene` with one variant of the original; returns (wall seconds of the process,
-    its standard output, which ends with `Rays cast: N`)."""
+    its standard output, which ends with `Rays cast: N`). After `timeout` seconds the process
+    is killed and subprocess.TimeoutExpired raised."""
     env = dict(os.environ, OMP_NUM_THREADS=str(threads))
     # The original opens model paths relative to its working directory, so it runs from the
     # scene folder, and the scene and output are given as absolute paths.
     cmd = [str(exe), str(Path(scene).resolve()), str(spp), str(lens_rays),
            str(Path(out_tga).resolve()), str(width), str(height)]
     start = time.perf_counter()
-    p = subprocess.run(cmd, cwd=scenes_dir, env=env, capture_output=True, text=True)
+    p = subprocess.run(cmd, cwd=scenes_dir, env=env, capture_output=True, text=True,
+                       timeout=timeout)
     seconds = time.perf_counter() - start
     if p.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed (exit {p.returncode}):\n{p.stderr}")
