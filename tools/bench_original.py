@@ -40,7 +40,10 @@ src/scene/scn.rs), so the differences are reported, not judged.
 
 The machine is printed beside the figures (lscpu model name, whether the CPU has avx2 and
 avx512f). lumis is $LUMIS_BIN or target/release/lumis of this checkout. Needs numpy and Pillow.
-All 6 variants and 11 scenes at 480x270 take about 10 minutes a round on 2 cores.
+One round of all 6 variants and 11 scenes at 480x270 took about 40 minutes on 2 shared cores
+(ballsInAPit alone 18 minutes: median and median_seg4096 ran into the 300 s --timeout there, the
+others took 2 minutes each), so --rounds 1 is the practical full run; use --variants or
+--scenes for repeated rounds.
 """
 
 from __future__ import annotations
