@@ -74,7 +74,6 @@ import argparse
 import json
 import math
 import os
-import platform
 import shlex
 import statistics
 import subprocess
@@ -94,6 +93,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from lumis_tools import lumis as lumis_run  # noqa: E402
 from lumis_tools.geometry import LoadError, load_geometry  # noqa: E402
+from lumis_tools.machine import cpu_info  # noqa: E402
 from lumis_tools.rays import pack, unit  # noqa: E402
 
 CAMERA_FOV_DEG = 40.0
@@ -302,13 +302,7 @@ def agreement(embree_out, lumis_rows):
 
 
 def cpu_model():
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
+    return cpu_info()["model"]
 
 
 def package_version(name):

@@ -16,26 +16,14 @@ missing the script says so and exits 0: it is a tool for people, not run by CI.
 Needs numpy and Pillow.
 """
 import argparse
-import os
 import subprocess
 import sys
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parent.parent
-TABLE_I = [
-    "allMaterials",
-    "ballsInAPit",
-    "ballsOnAPlane",
-    "ballsOnAPlaneClose",
-    "line",
-    "lineFar",
-    "modelTest2",
-    "texturesInYoFace",
-    "triangleSpheres",
-    "triangleTest1",
-    "tumbledStones",
-]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from lumis_tools.paper import (LENS_RAYS, REPO, SCENES_DIR, TABLE_I,  # noqa: E402
+                               load_rgb, mean_abs_diff, run_original as render_original)
 
 
 def parse_args():
@@ -43,7 +31,7 @@ def parse_args():
     p.add_argument("orig_dir", type=Path, help="build.sh output folder of the original")
     p.add_argument("lumis", type=Path, help="lumis binary")
     p.add_argument("--variant", default="bsp", help="which build of the original (default bsp)")
-    p.add_argument("--scenes", type=Path, default=REPO / "../shared/paper-scenes/scenes")
+    p.add_argument("--scenes", type=Path, default=SCENES_DIR)
     p.add_argument("--work", type=Path, default=Path("/tmp/lumis-paper-side-by-side"),
                    help="renders and pinhole scene variants go here (default %(default)s)")
     p.add_argument("--out", type=Path, default=REPO / "docs/paper/side-by-side",
@@ -54,7 +42,7 @@ def parse_args():
                         "seeded by the clock, so reusing them compares lumis builds fairly)")
     p.add_argument("--width", type=int, default=480)
     p.add_argument("--height", type=int, default=270)
-    p.add_argument("--lens-rays", type=int, default=5, help="the original's depth complexity")
+    p.add_argument("--lens-rays", type=int, default=LENS_RAYS, help="the original's depth complexity")
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--label", default="lumis", help="names this lumis run's renders in --work")
     p.add_argument("--orig-label", default="original",
@@ -80,13 +68,9 @@ def pinhole_variant(scene: Path, work: Path) -> Path:
 
 
 def run_original(exe: Path, scene: Path, out_tga: Path, a) -> float:
-    env = dict(os.environ, OMP_NUM_THREADS=str(a.threads))
-    t = time.monotonic()
-    # The original opens model paths relative to its working directory.
-    subprocess.run([str(exe), str(scene), "1", str(a.lens_rays), str(out_tga), str(a.width),
-                    str(a.height)], cwd=a.scenes, env=env, check=True,
-                   stdout=subprocess.DEVNULL)
-    return time.monotonic() - t
+    seconds, _ = render_original(exe, scene, out_tga, width=a.width, height=a.height,
+                                 lens_rays=a.lens_rays, threads=a.threads, scenes_dir=a.scenes)
+    return seconds
 
 
 def run_lumis(exe: Path, scene: Path, out_png: Path, a) -> float:
@@ -95,21 +79,6 @@ def run_lumis(exe: Path, scene: Path, out_png: Path, a) -> float:
                     str(a.height), "--threads", str(a.threads), "-o", str(out_png)]
                    + a.lumis_arg, check=True)
     return time.monotonic() - t
-
-
-def load_rgb(path: Path):
-    import numpy as np
-    from PIL import Image
-
-    return np.asarray(Image.open(path).convert("RGB"), dtype=np.int16)
-
-
-def mean_abs_diff(a, b) -> float:
-    import numpy as np
-
-    if a.shape != b.shape:
-        raise SystemExit(f"size mismatch {a.shape} vs {b.shape}")
-    return float(np.abs(a - b).mean())
 
 
 def side_by_side(orig, ours, path: Path):
