@@ -39,10 +39,11 @@ fn check_closed(name: &str, m: Mesh, center: Vec3, radius: f32, seed: u64) {
     let bounds = g.prim_bounds();
     let mut rng = Rng::new(seed);
     for max_leaf_size in [1, 4] {
-        let accel = Accel::build(AccelKind::Sah, &bounds, &BuildOptions { max_leaf_size });
+        // Through the packed leaves too (`closest` checks both paths agree).
+        let accel = Accel::build_for(AccelKind::Sah, &g, &BuildOptions { max_leaf_size });
         accel
-            .bvh()
-            .expect("a hierarchy")
+            .wide()
+            .expect("a wide hierarchy")
             .validate(&bounds)
             .expect("valid hierarchy");
         let must_hit = |r: Ray, what: &str, i: usize| {

@@ -164,9 +164,10 @@ enum Structure {
     Brute(brute::Brute),
     /// A hierarchy in one flat node array.
     Bvh(Bvh),
-    /// The SAH tree collapsed to 8-wide nodes for the ordered walk; the binary tree is kept for
-    /// the paper's traversals (segments, exhaustive), which are defined on binary nodes.
-    Wide(Box<Wide8>, Bvh),
+    /// The SAH tree collapsed to 8-wide nodes for the ordered walk. The paper's traversals
+    /// (segments, exhaustive) are defined on binary nodes: choosing one unfolds the wide tree
+    /// back into the binary tree it came from ([`WideBvh::to_binary`]).
+    Wide(Box<Wide8>),
 }
 
 impl Accel {
@@ -177,10 +178,7 @@ impl Accel {
             AccelKind::Brute => Structure::Brute(brute::Brute::new(bounds)),
             AccelKind::Bsp => Structure::Bvh(bsp::build(bounds, opts, SplitRule::SpatialCentre)),
             AccelKind::Bsmp => Structure::Bvh(bsp::build(bounds, opts, SplitRule::MedianCentroid)),
-            AccelKind::Sah => {
-                let binary = sah::build(bounds, opts);
-                Structure::Wide(Box::new(Wide8::collapse(&binary)), binary)
-            }
+            AccelKind::Sah => Structure::Wide(Box::new(Wide8::collapse(&sah::build(bounds, opts)))),
         };
         Self {
             kind,
@@ -194,7 +192,7 @@ impl Accel {
     /// triangles into its leaf order ([`PackedLeaves`]) for the scene's watertight queries.
     pub fn build_for(kind: AccelKind, geometry: &Geometry, opts: &BuildOptions) -> Self {
         let mut accel = Self::build(kind, &geometry.prim_bounds(), opts);
-        if let Structure::Wide(w, _) = &accel.structure {
+        if let Structure::Wide(w) = &accel.structure {
             accel.packed = Some(Arc::new(PackedLeaves::new(geometry, w.prim_order())));
         }
         accel
@@ -203,8 +201,8 @@ impl Accel {
     /// The packed triangles and the walk that reads them, when this accelerator has them and
     /// is walked in order (the paper's traversals run on the binary tree, in its own order).
     pub(crate) fn packed(&self) -> Option<(&Wide8, &PackedLeaves)> {
-        match (&self.structure, &self.traversal, &self.packed) {
-            (Structure::Wide(w, _), Traversal::Ordered, Some(p)) => Some((w, p)),
+        match (&self.structure, &self.packed) {
+            (Structure::Wide(w), Some(p)) => Some((w, p)),
             _ => None,
         }
     }
@@ -249,7 +247,7 @@ impl Accel {
         let structure = match &self.structure {
             Structure::Brute(_) => 0,
             Structure::Bvh(b) => binary(b),
-            Structure::Wide(w, b) => w.bytes() + binary(b),
+            Structure::Wide(w) => w.bytes(),
         };
         structure + self.packed.as_ref().map_or(0, |p| p.bytes())
     }
@@ -258,6 +256,10 @@ impl Accel {
     /// segments over, so it answers the same either way.
     pub fn with_traversal(mut self, traversal: Traversal) -> Self {
         self.traversal = traversal;
+        if let (Structure::Wide(w), false) = (&self.structure, traversal == Traversal::Ordered) {
+            self.structure = Structure::Bvh(w.to_binary());
+            self.packed = None;
+        }
         self
     }
 
@@ -275,14 +277,15 @@ impl Accel {
     pub fn bvh(&self) -> Option<&Bvh> {
         match &self.structure {
             Structure::Brute(_) => None,
-            Structure::Bvh(b) | Structure::Wide(_, b) => Some(b),
+            Structure::Bvh(b) => Some(b),
+            Structure::Wide(_) => None,
         }
     }
 
     /// The wide hierarchy the ordered walk uses, when this kind has one.
     pub fn wide(&self) -> Option<&Wide8> {
         match &self.structure {
-            Structure::Wide(w, _) => Some(w),
+            Structure::Wide(w) => Some(w),
             _ => None,
         }
     }
@@ -296,17 +299,14 @@ impl Accel {
     {
         match (&self.structure, &self.traversal) {
             (Structure::Brute(b), _) => b.intersect(ray, stats, test),
-            (Structure::Wide(w, _), Traversal::Ordered) => {
-                w.intersect(ray, stats, leaves::PerPrim(test))
-            }
+            // Only ever walked in order: `with_traversal` unfolds it for the others.
+            (Structure::Wide(w), _) => w.intersect(ray, stats, leaves::PerPrim(test)),
             (Structure::Bvh(b), Traversal::Ordered) => b.intersect(ray, stats, test),
-            (Structure::Bvh(b) | Structure::Wide(_, b), Traversal::Segments(p)) => {
+            (Structure::Bvh(b), Traversal::Segments(p)) => {
                 b.intersect_segments(ray, p, stats, test)
             }
-            (Structure::Bvh(b) | Structure::Wide(_, b), Traversal::Exhaustive) => {
-                b.intersect_exhaustive(ray, stats, test)
-            }
-            (Structure::Bvh(b) | Structure::Wide(_, b), Traversal::SegmentsOriginalRule(p)) => {
+            (Structure::Bvh(b), Traversal::Exhaustive) => b.intersect_exhaustive(ray, stats, test),
+            (Structure::Bvh(b), Traversal::SegmentsOriginalRule(p)) => {
                 b.intersect_segments_original_rule(ray, p, stats, test)
             }
         }
@@ -320,22 +320,22 @@ impl Accel {
     {
         match (&self.structure, &self.traversal) {
             (Structure::Brute(b), _) => b.occluded(ray, stats, test),
-            (Structure::Wide(w, _), Traversal::Ordered) => {
-                w.occluded(ray, stats, leaves::PerPrim(test))
+            (Structure::Wide(w), _) => w.occluded(ray, stats, leaves::PerPrim(test)),
+            (Structure::Bvh(b), Traversal::Ordered | Traversal::Exhaustive) => {
+                b.occluded(ray, stats, test)
             }
-            (
-                Structure::Bvh(b) | Structure::Wide(_, b),
-                Traversal::Ordered | Traversal::Exhaustive,
-            ) => b.occluded(ray, stats, test),
-            (
-                Structure::Bvh(b) | Structure::Wide(_, b),
-                Traversal::Segments(p) | Traversal::SegmentsOriginalRule(p),
-            ) => b.occluded_segments(ray, p, stats, test),
+            (Structure::Bvh(b), Traversal::Segments(p) | Traversal::SegmentsOriginalRule(p)) => {
+                b.occluded_segments(ray, p, stats, test)
+            }
         }
     }
 
     /// Number of hierarchy nodes (0 for brute force).
     pub fn node_count(&self) -> usize {
-        self.bvh().map_or(0, |b| b.nodes().len())
+        match &self.structure {
+            Structure::Brute(_) => 0,
+            Structure::Bvh(b) => b.nodes().len(),
+            Structure::Wide(w) => w.nodes().len(),
+        }
     }
 }

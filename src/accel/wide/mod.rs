@@ -8,6 +8,7 @@
 //! differ, and they are culled with the same conservative bound as the binary traversal
 //! ([`super::bvh::CullBound`]), which keeps every answer identical to brute force.
 
+mod binary;
 mod child_test;
 mod traverse;
 
@@ -75,6 +76,9 @@ impl<const W: usize> WideNode<W> {
 #[derive(Clone, Debug)]
 pub struct WideBvh<const W: usize> {
     nodes: Vec<WideNode<W>>,
+    /// Per node, the binary subtree its lanes were collapsed from (see [`binary`]), so the
+    /// binary tree can be given back to the paper's traversals without being kept.
+    shapes: Vec<u16>,
     prim_order: Vec<u32>,
     bounds: Aabb,
 }
@@ -97,6 +101,7 @@ impl<const W: usize> WideBvh<W> {
         let bin = binary.nodes();
         let mut wide = Self {
             nodes: Vec::new(),
+            shapes: Vec::new(),
             prim_order: Vec::with_capacity(binary.prim_order().len() * 5 / 4),
             bounds: bin.first().map_or(Aabb::EMPTY, |n| n.bounds),
         };
@@ -107,6 +112,7 @@ impl<const W: usize> WideBvh<W> {
                 let first = wide.place_leaf(binary, root);
                 node.set(0, &root.bounds, first, root.count);
                 wide.nodes.push(node);
+                wide.shapes.push(binary::SINGLE_LANE);
             }
             Some(_) => {
                 wide.emit(binary, 0);
@@ -130,6 +136,9 @@ impl<const W: usize> WideBvh<W> {
         let bin = binary.nodes();
         let at = self.nodes.len();
         self.nodes.push(WideNode::UNUSED);
+        self.shapes.push(0);
+        // Open binary nodes, largest area first, while the lanes they leave fit.
+        let mut opened = vec![index];
         let first = bin[index as usize].first;
         let mut kids = vec![first, first + 1];
         while kids.len() < W {
@@ -143,11 +152,15 @@ impl<const W: usize> WideBvh<W> {
                 })
                 .map(|(i, _)| i);
             let Some(i) = widest else { break };
-            let opened = kids.swap_remove(i);
-            let f = bin[opened as usize].first;
+            let open = kids.swap_remove(i);
+            opened.push(open);
+            let f = bin[open as usize].first;
             kids.extend([f, f + 1]);
         }
-        for (lane, &k) in kids.iter().enumerate() {
+        // Lanes in the binary subtree's left-to-right order, and its shape.
+        let (shape, lanes) = binary::shape_of(bin, index, &opened);
+        self.shapes[at] = shape;
+        for (lane, &k) in lanes.iter().enumerate() {
             let n = &bin[k as usize];
             let (child, count) = if n.is_leaf() {
                 (self.place_leaf(binary, n), n.count)
@@ -170,9 +183,12 @@ impl<const W: usize> WideBvh<W> {
         &self.prim_order
     }
 
-    /// Bytes of the hierarchy (nodes and primitive order), for the bytes-per-primitive figure.
+    /// Bytes of the hierarchy (nodes, shapes and primitive order), for the bytes-per-primitive
+    /// figure.
     pub fn bytes(&self) -> usize {
-        std::mem::size_of_val(self.nodes.as_slice()) + 4 * self.prim_order.len()
+        std::mem::size_of_val(self.nodes.as_slice())
+            + std::mem::size_of_val(self.shapes.as_slice())
+            + 4 * self.prim_order.len()
     }
 
     /// Checks the invariants: every primitive reached exactly once, every lane's box exactly
