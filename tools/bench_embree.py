@@ -365,6 +365,7 @@ def main(argv=None):
         # both rather than the ratio.
         embree = Embree(tris, robust=not args.no_robust)
         builds, lumis_builds, lumis_loads = [], [], []
+        lumis_memory = {}
         times = {name: {"embree": [], "lumis": []} for name in sets}
         last = {}
         for round_no in range(args.runs):
@@ -381,6 +382,8 @@ def main(argv=None):
                     times[name]["lumis"].append(lh.timings["trace_s"][1])
                     lumis_builds.append(lh.timings["build_s"])
                     lumis_loads.append(lh.timings["load_s"])
+                    lumis_memory.update({k: lh.timings.get(k) for k in
+                                         ("prims", "geometry_bytes", "accel_bytes")})
                     last[name, "lumis"] = lh.rows
 
                 turns = (embree_turn, lumis_turn) if round_no % 2 == 0 else (lumis_turn,
@@ -428,6 +431,14 @@ def main(argv=None):
           f"lumis build_s {l_build * 1e3:.1f} ms; lumis/Embree build time "
           f"{l_build / e_build:.2f}x (medians of {len(builds)} and {len(lumis_builds)})")
     print(f"(lumis load_s, not in build: median {statistics.median(lumis_loads):.2f} s)")
+    prims = lumis_memory.get("prims")
+    if prims:
+        # Build throughput and memory per triangle, as `lumis hits --timings` reports them.
+        print(f"lumis build: {prims / l_build / 1e6:.2f} Mtri/s on one thread "
+              f"(Embree: {prims / e_build / 1e6:.2f} Mtri/s)")
+        accel, geom = lumis_memory["accel_bytes"], lumis_memory["geometry_bytes"]
+        print(f"lumis memory: hierarchy {accel / prims:.1f} B/tri + scene geometry "
+              f"{geom / prims:.1f} B/tri = {(accel + geom) / prims:.1f} B/tri")
     print("per-round seconds (and lumis/Embree ratio of each round):")
     for name, r in results.items():
         print(f"  {name}: Embree {' '.join(f'{t:.4f}' for t in r['embree_s'])}; "
@@ -442,6 +453,7 @@ def main(argv=None):
             "lumis_rev": rev,
             "embree_build_s": [b[0] for b in builds], "embree_build_cpu_s": [b[1] for b in builds],
             "lumis_build_s": lumis_builds, "lumis_load_s": lumis_loads, "sets": results,
+            "lumis_memory": lumis_memory,
         }
         args.json.write_text(json.dumps(record, indent=2) + "\n")
 
