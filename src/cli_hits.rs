@@ -49,7 +49,8 @@ pub struct HitsArgs {
     /// written, and every run gives the same hits).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
     repeat: u32,
-    /// Write the phase times as JSON: {"rays", "load_s", "build_s", "trace_s": [one per run]}.
+    /// Write the phase times and sizes as JSON: {"rays", "load_s", "build_s", "trace_s": [one per
+    /// run], "prims", "geometry_bytes", "accel_bytes"}.
     #[arg(long)]
     timings: Option<PathBuf>,
 }
@@ -95,15 +96,16 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
         write_rows(path, &sphere_rows(&scene))?;
     }
     if let Some(path) = &args.timings {
-        let runs: Vec<String> = trace_s.iter().map(|s| format!("{s:e}")).collect();
-        let json = format!(
-            "{{\"rays\": {}, \"load_s\": {load_s:e}, \"build_s\": {build_s:e}, \"trace_s\": [{}], \"prims\": {}, \"geometry_bytes\": {}, \"accel_bytes\": {}}}\n",
-            rays.len(),
-            runs.join(", "),
-            scene.geometry().prims().len(),
-            scene.geometry().bytes(),
-            accel.bytes()
-        );
+        let json = serde_json::json!({
+            "rays": rays.len(),
+            "load_s": load_s,
+            "build_s": build_s,
+            "trace_s": trace_s,
+            "prims": scene.geometry().prims().len(),
+            "geometry_bytes": scene.geometry().bytes(),
+            "accel_bytes": accel.bytes(),
+        });
+        let json = format!("{json}\n");
         write_text(path, &json)?;
     }
     Ok(())

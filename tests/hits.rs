@@ -275,17 +275,17 @@ fn repeat_traces_every_run_and_timings_lists_each() {
         "repeating changes nothing"
     );
     let json = std::fs::read_to_string(&timings).unwrap();
-    assert!(
-        json.starts_with(&format!("{{\"rays\": {}, ", rays.len())),
-        "{json}"
-    );
-    let runs = json.split("\"trace_s\": [").nth(1).unwrap();
-    let runs: Vec<f64> = runs
-        .trim_end()
-        .trim_end_matches(['}', ']'])
-        .split(", ")
-        .map(|s| s.parse().unwrap())
+    let parsed: serde_json::Value = serde_json::from_str(&json).expect("timings are JSON");
+    assert_eq!(parsed["rays"], rays.len(), "{json}");
+    let runs: Vec<f64> = parsed["trace_s"]
+        .as_array()
+        .expect("trace_s is a list")
+        .iter()
+        .map(|s| s.as_f64().expect("seconds"))
         .collect();
+    for key in ["prims", "geometry_bytes", "accel_bytes"] {
+        assert!(parsed[key].as_u64().is_some_and(|n| n > 0), "{key}: {json}");
+    }
     assert_eq!(runs.len(), 3, "{json}");
     assert!(runs.iter().all(|&s| s >= 0.0 && s.is_finite()), "{json}");
     let o = run_hits(&scene, &rays_path, &thrice, &["--repeat", "0"]);

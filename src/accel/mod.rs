@@ -210,6 +210,7 @@ impl Accel {
     /// The nearest hit of `ray` among the primitives of `geometry` (the geometry this was
     /// built for) with the primitive tests of `precision`: through the packed leaves when
     /// there are any and the tests are the watertight ones, else one primitive at a time.
+    #[inline]
     pub fn intersect_geometry(
         &self,
         geometry: &Geometry,
@@ -226,6 +227,7 @@ impl Accel {
     }
 
     /// True when a primitive of `geometry` blocks `ray` (see [`Accel::intersect_geometry`]).
+    #[inline]
     pub fn occluded_geometry(
         &self,
         geometry: &Geometry,

@@ -88,6 +88,7 @@ pub(crate) struct PackedWatertight<'a> {
 
 impl<'a> PackedWatertight<'a> {
     /// The test for `ray` over `packed`, built from `geometry` (which holds the spheres).
+    #[inline(always)]
     pub(crate) fn new(packed: &'a PackedLeaves, geometry: &'a Geometry, ray: &Ray) -> Self {
         let wr = WatertightRay::new(ray.dir);
         let k = [wr.kx, wr.ky, wr.kz];

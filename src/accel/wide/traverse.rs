@@ -88,6 +88,7 @@ macro_rules! with_child_test {
 
 impl WideBvh<8> {
     /// Nearest hit; the answer of [`crate::accel::Bvh::intersect`] and of brute force.
+    #[inline(always)]
     pub(crate) fn intersect<L: ClosestLeaves>(
         &self,
         ray: &Ray,
@@ -131,6 +132,7 @@ impl WideBvh<8> {
     }
 
     /// True when anything blocks `ray`; stops at the first blocker.
+    #[inline(always)]
     pub(crate) fn occluded<L: AnyLeaves>(
         &self,
         ray: &Ray,
