@@ -287,19 +287,15 @@ pub fn turbulence_terms8(q: Vec3) -> Option<[f32; 8]> {
 }
 
 /// `(noise(x, y, z), noise(y, z, x), noise(z, x, y))` at `q`, or `None` outside the range.
+/// Three one-point calls: cheaper than an eight-lane call with five lanes idle (3 gathers
+/// instead of 14, and fewer instructions).
 #[target_feature(enable = "avx2")]
 pub fn rotations(q: Vec3) -> Option<Vec3> {
-    // The spare lanes repeat the first point: valid input whose result is dropped.
-    let (a, b, c) = (q.x, q.y, q.z);
-    let n = noise8(
-        _mm256_setr_ps(a, b, c, a, a, a, a, a),
-        _mm256_setr_ps(b, c, a, b, b, b, b, b),
-        _mm256_setr_ps(c, a, b, c, c, c, c, c),
-    )?;
-    let mut out = [0.0f32; 8];
-    // SAFETY: `out` holds eight floats.
-    unsafe { _mm256_storeu_ps(out.as_mut_ptr(), n) };
-    Some(Vec3::new(out[0], out[1], out[2]))
+    Some(Vec3::new(
+        noise1(q)?,
+        noise1(Vec3::new(q.y, q.z, q.x))?,
+        noise1(Vec3::new(q.z, q.x, q.y))?,
+    ))
 }
 
 #[cfg(test)]
