@@ -1,6 +1,6 @@
 //! Bump-like shading-normal perturbation by 3-D noise (the `.scn` `NormalMap scale amount`).
 
-use super::perlin::noise;
+use super::perlin::noise_rotations;
 use crate::math::Vec3;
 
 /// Perturbs shading normals by a smooth 3-D noise vector field in world space.
@@ -25,11 +25,7 @@ impl NormalMap {
         let q = p / self.scale;
         // Rotating the coordinates reads the field along other axes: away from the diagonal
         // the three lookups are practically independent.
-        let d = Vec3::new(
-            noise(q),
-            noise(Vec3::new(q.y, q.z, q.x)),
-            noise(Vec3::new(q.z, q.x, q.y)),
-        );
+        let d = noise_rotations(q);
         (n + d * self.amount).try_normalize().unwrap_or(n)
     }
 }
@@ -37,6 +33,7 @@ impl NormalMap {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::texture::perlin::noise;
 
     #[test]
     fn zero_amount_is_identity_and_results_are_unit() {

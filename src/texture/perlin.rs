@@ -6,6 +6,9 @@
 
 use crate::math::{Vec3, floor_fast};
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+
 /// Seed of the permutation shuffle; changing it changes every procedural texture in every image.
 const PERM_SEED: u64 = 0x6C75_6D69_735F_6E7A;
 
@@ -97,6 +100,19 @@ fn lerp(t: f32, a: f32, b: f32) -> f32 {
 /// roughly in [-1, 1] (the exact extremes are about ±1.04), mean zero. Never panics: points
 /// beyond the `i32` range saturate onto one lattice cell, NaN in gives NaN out.
 pub fn noise(p: Vec3) -> f32 {
+    #[cfg(target_arch = "x86_64")]
+    if avx2::available() {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        if let Some(n) = unsafe { avx2::noise1(p) } {
+            return n;
+        }
+    }
+    noise_scalar(p)
+}
+
+/// [`noise`] in plain scalar code: the definition the vector kernels reproduce bit for bit, and
+/// the path for CPUs without AVX2 and for coordinates past 2^23.
+fn noise_scalar(p: Vec3) -> f32 {
     let cell = Vec3::new(floor_fast(p.x), floor_fast(p.y), floor_fast(p.z));
     let f = p - cell;
     // `as i32` saturates and `& 255` wraps negatives correctly in two's complement.
@@ -129,12 +145,48 @@ pub const TURBULENCE_LEVELS: u32 = 9;
 /// at 9x the base frequency, which is what its 1-sample-per-pixel images were made with.
 /// Non-negative; about 0.6 on average and rarely above 1.3.
 pub fn turbulence(q: Vec3) -> f32 {
+    #[cfg(target_arch = "x86_64")]
+    if avx2::available() {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        if let Some(terms) = unsafe { avx2::turbulence_terms8(q) } {
+            // Summed in the scalar order, k = 1 first, so the rounding is the same.
+            let last = TURBULENCE_LEVELS as f32;
+            return terms.iter().sum::<f32>() + noise(q * last).abs() / last;
+        }
+    }
+    turbulence_scalar(q)
+}
+
+/// [`turbulence`] one harmonic at a time: the definition, and the path for CPUs without AVX2
+/// and for points the vector kernel does not cover.
+fn turbulence_scalar(q: Vec3) -> f32 {
     (1..=TURBULENCE_LEVELS)
         .map(|k| {
             let k = k as f32;
-            noise(q * k).abs() / k
+            noise_scalar(q * k).abs() / k
         })
         .sum()
+}
+
+/// `(noise(x, y, z), noise(y, z, x), noise(z, x, y))` at `q = (x, y, z)`: the three rotated
+/// lookups of a normal map, evaluated together where the CPU allows.
+pub fn noise_rotations(q: Vec3) -> Vec3 {
+    #[cfg(target_arch = "x86_64")]
+    if avx2::available() {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        if let Some(n) = unsafe { avx2::rotations(q) } {
+            return n;
+        }
+    }
+    noise_rotations_scalar(q)
+}
+
+fn noise_rotations_scalar(q: Vec3) -> Vec3 {
+    Vec3::new(
+        noise_scalar(q),
+        noise_scalar(Vec3::new(q.y, q.z, q.x)),
+        noise_scalar(Vec3::new(q.z, q.x, q.y)),
+    )
 }
 
 #[cfg(test)]
