@@ -233,8 +233,9 @@ impl Geometry {
         }
     }
 
-    /// Surface geometry of a hit on primitive `index` at `ray.at(hit.t)`.
-    pub fn surface(&self, index: u32, ray: &Ray, hit: &PrimHit) -> SurfacePoint {
+    /// Surface geometry of a hit on primitive `index` at `ray.at(hit.t)`; texture coordinates
+    /// only `with_uv` (else 0).
+    pub fn surface(&self, index: u32, ray: &Ray, hit: &PrimHit, with_uv: bool) -> SurfacePoint {
         match self.prims[index as usize] {
             Primitive::Sphere { sphere } => {
                 let s = &self.spheres[sphere as usize];
@@ -252,7 +253,7 @@ impl Geometry {
                 let slack = (c.abs() + DVec3::splat(s.radius as f64)) * (8.0 * f64::EPSILON);
                 let (p, p_error) = rounded_with_error(exact, slack);
                 let n = sphere_normal(d, len);
-                let (u, v) = s.uv_at(p);
+                let (u, v) = if with_uv { s.uv_at(p) } else { (0.0, 0.0) };
                 SurfacePoint {
                     p,
                     ng: n,
@@ -281,7 +282,11 @@ impl Geometry {
                     p,
                     ng,
                     ns,
-                    uv: m.uv(tri, hit.u, hit.v),
+                    uv: if with_uv {
+                        m.uv(tri, hit.u, hit.v)
+                    } else {
+                        Vec2::ZERO
+                    },
                     p_error,
                 }
             }

@@ -199,11 +199,15 @@ impl Scene {
         let Hit { prim, hit } = self.intersect_hit(accel, ray, stats)?;
         let mut hit_ray = *ray;
         hit_ray.t_max = hit.t;
+        let object = self.object_of(prim);
+        // Texture coordinates only where a texture reads them (a sphere's cost two inverse
+        // trigonometric calls); elsewhere they stay 0, which nothing reads.
+        let uv = self.material_of(object).diffuse.reads_uv();
         Some(Interaction {
             t: hit.t,
             prim,
-            object: self.object_of(prim),
-            surface: self.geometry.surface(prim, &hit_ray, &hit),
+            object,
+            surface: self.geometry.surface(prim, &hit_ray, &hit, uv),
         })
     }
 

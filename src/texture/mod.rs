@@ -149,6 +149,11 @@ const CRISS_BANDS: [Vec3; 3] = [
 ];
 
 impl Texture {
+    /// True when [`Texture::eval`] reads its `uv` argument.
+    pub fn reads_uv(&self) -> bool {
+        matches!(self, Texture::Image { .. })
+    }
+
     /// Colour (linear RGB) at world point `p` and texture coordinates `uv`; only `Image` reads
     /// `uv`. Checkerboard and Marble results lie in the convex hull of the kind's colours,
     /// CrissCross's in 3/4 of it; Turbulence and Wood extrapolate a little past their colours

@@ -67,7 +67,7 @@ fn shadow_errors(base: Vec3, gap: f32, offset: Offset) -> ShadowErrors {
         }
         let mut hit_ray = ray;
         hit_ray.t_max = hit.hit.t;
-        let s = g.surface(hit.prim, &hit_ray, &hit.hit);
+        let s = g.surface(hit.prim, &hit_ray, &hit.hit, true);
         // Truth: the f64 point of the ground plane on the camera ray, then its shadow segment
         // to the occluder's plane, inside the square unless within the margin of its border.
         let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());

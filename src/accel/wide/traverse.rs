@@ -287,6 +287,14 @@ fn push_entered<const W: usize, const N: usize>(
     match mask.count_ones() {
         0 => None,
         1 => Some(entry(mask.trailing_zeros() as usize)),
+        2 => {
+            // The most common split: one comparison, no sort.
+            let a = entry(mask.trailing_zeros() as usize);
+            let b = entry((31 - mask.leading_zeros()) as usize);
+            let (near, far) = if b.near < a.near { (b, a) } else { (a, b) };
+            stack.push(far);
+            Some(near)
+        }
         n => {
             // Insertion sort of the few entered lanes, nearest last.
             let mut sorted = [MaybeUninit::<Entry>::uninit(); W];
