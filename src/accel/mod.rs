@@ -3,6 +3,9 @@
 //! Builders see only the primitives' bounding boxes; queries reach the primitives through a
 //! closure, so accelerators know nothing of shapes or materials:
 //! `accel.intersect(&ray, &mut stats, |prim, ray| geometry.intersect(prim, ray, &wr))`.
+//! The one exception is an optimisation: [`Accel::build_for`] lets the wide hierarchy keep a
+//! copy of the triangles in its leaf order ([`PackedLeaves`]), which the scene-level queries
+//! ([`Accel::intersect_geometry`]) read instead of calling the closure per primitive.
 //!
 //! Every accelerator returns exactly the brute-force answer: the nearest hit, with exact-`t`
 //! ties broken towards the lower primitive index.
@@ -40,7 +43,7 @@ pub enum AccelKind {
     Bsp,
     /// The paper's BSMP: split at the median primitive centroid, axes cycling.
     Bsmp,
-    /// Binned surface-area-heuristic BVH.
+    /// Binned surface-area-heuristic BVH, collapsed to 8-wide SIMD nodes with packed leaves.
     Sah,
 }
 
