@@ -11,6 +11,9 @@ use crate::math::{Aabb, Ray, gamma};
 /// Traversal stack depth; builders stop splitting well before this (depth is checked in `validate`).
 pub(crate) const MAX_DEPTH: usize = 64;
 
+/// Relative margin of [`CullBound::with_inverse`] over [`CullBound::new`].
+const INVERSE_MARGIN: f32 = 1.0 + 1.0 / 65536.0;
+
 /// Relative widening of the `t_max` that boxes are culled against (see [`CullBound`]).
 const CULL_SCALE: f32 = 1.0 + gamma(16);
 
@@ -44,6 +47,25 @@ impl CullBound {
         } else {
             (gamma(16) as f64 * scale as f64 / ray.dir.as_dvec3().length()) as f32
         };
+        Self {
+            slack: slack.next_up(),
+        }
+    }
+
+    /// The same bound (or a larger one) without a square root or a division, for a ray whose
+    /// reciprocal direction `inv` is finite and normal in every component: `1 / |d|` is at most
+    /// `1 / max |d_i| = min |inv_i|`, and the relative margin covers the few ulps by which the
+    /// two roundings of that can differ. A larger slack only culls less, so answers are the same.
+    #[inline(always)]
+    pub(crate) fn with_inverse(ray: &Ray, root: &Aabb, inv: [f32; 3]) -> Self {
+        let scale = ray
+            .origin
+            .abs()
+            .max(root.min.abs())
+            .max(root.max.abs())
+            .max_element();
+        let inv_len = inv[0].abs().min(inv[1].abs()).min(inv[2].abs());
+        let slack = gamma(16) * scale * inv_len * (CULL_SCALE * INVERSE_MARGIN);
         Self {
             slack: slack.next_up(),
         }

@@ -11,13 +11,20 @@
 //! through [`LaneByLane`], which applies the scalar slab test the ray needs to each lane.
 
 use super::{EMPTY_LANE, WideNode};
+use crate::accel::bvh::CullBound;
 use crate::accel::slab::Slab;
-use crate::math::{ROBUST_BOX_SCALE, Ray};
+use crate::math::{Aabb, ROBUST_BOX_SCALE, Ray};
 
 /// Decides which children of a node a ray enters within `[t_min, t_max]`.
 pub(crate) trait ChildTest<const W: usize>: Copy {
     /// A bit per entered lane, and each lane's conservative entry distance.
     fn test(&self, node: &WideNode<W>, t_min: f32, t_max: f32) -> (u32, [f32; W]);
+
+    /// The culling bound for `ray` in a hierarchy bounded by `root`.
+    #[inline(always)]
+    fn cull_bound(&self, ray: &Ray, root: &Aabb) -> CullBound {
+        CullBound::new(ray, root)
+    }
 }
 
 /// Any slab test, one lane at a time: the path for rays the SIMD tests do not cover, and for
@@ -72,6 +79,11 @@ pub(crate) struct Avx2(pub Octant);
 
 #[cfg(target_arch = "x86_64")]
 impl ChildTest<8> for Avx2 {
+    #[inline(always)]
+    fn cull_bound(&self, ray: &Ray, root: &Aabb) -> CullBound {
+        CullBound::with_inverse(ray, root, self.0.inv)
+    }
+
     #[inline(always)]
     fn test(&self, node: &WideNode<8>, t_min: f32, t_max: f32) -> (u32, [f32; 8]) {
         // SAFETY: `Avx2` values exist only where AVX2 was detected at run time.

@@ -9,7 +9,7 @@ use std::mem::MaybeUninit;
 
 use super::child_test::{ChildTest, LaneByLane, Octant, has_avx2};
 use super::{WideBvh, WideNode};
-use crate::accel::bvh::{CullBound, MAX_DEPTH};
+use crate::accel::bvh::MAX_DEPTH;
 use crate::accel::leaves::{AnyLeaves, ClosestLeaves};
 use crate::accel::slab::{SlabF32, SlabF64, SlabKind};
 use crate::accel::{Closest, Hit, TraversalStats};
@@ -187,7 +187,7 @@ impl<const W: usize> WideBvh<W> {
         if self.nodes.is_empty() {
             return None;
         }
-        let cull = CullBound::new(ray, &self.bounds);
+        let cull = child_test.cull_bound(ray, &self.bounds);
         let t_min = cull.lower(ray.t_min);
         let mut closest = Closest::new(ray);
         let mut stack = Stack::<STACK>::new();
@@ -234,7 +234,7 @@ impl<const W: usize> WideBvh<W> {
         if self.nodes.is_empty() {
             return false;
         }
-        let cull = CullBound::new(ray, &self.bounds);
+        let cull = child_test.cull_bound(ray, &self.bounds);
         let (t_min, t_max) = (cull.lower(ray.t_min), cull.widen(ray.t_max));
         let mut stack = Stack::<STACK>::new();
         let mut current = Entry {
