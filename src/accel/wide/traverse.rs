@@ -93,15 +93,16 @@ impl WideBvh<8> {
         &self,
         ray: &Ray,
         stats: &mut TraversalStats,
-        test: L,
+        mut test: L,
     ) -> Option<Hit> {
+        // The tester is borrowed from here on: moving it into each call copied it per ray.
         #[cfg(target_arch = "x86_64")]
         if has_avx2() {
             // SAFETY: AVX2 is present.
-            return unsafe { self.intersect_avx2(ray, stats, test) };
+            return unsafe { self.intersect_avx2(ray, stats, &mut test) };
         }
         with_child_test!(self, ray, |_| None::<LaneByLane<SlabF32<false>>>, |t| self
-            .intersect_with(t, ray, stats, test))
+            .intersect_with(t, ray, stats, &mut test))
     }
 
     /// The whole walk compiled for AVX2, so the node test and the primitive test inline into it.
@@ -111,7 +112,7 @@ impl WideBvh<8> {
         &self,
         ray: &Ray,
         stats: &mut TraversalStats,
-        test: L,
+        test: &mut L,
     ) -> Option<Hit> {
         use super::child_test::Avx2;
         let inv = safe_inverse(ray.dir);
@@ -137,15 +138,15 @@ impl WideBvh<8> {
         &self,
         ray: &Ray,
         stats: &mut TraversalStats,
-        test: L,
+        mut test: L,
     ) -> bool {
         #[cfg(target_arch = "x86_64")]
         if has_avx2() {
             // SAFETY: AVX2 is present.
-            return unsafe { self.occluded_avx2(ray, stats, test) };
+            return unsafe { self.occluded_avx2(ray, stats, &mut test) };
         }
         with_child_test!(self, ray, |_| None::<LaneByLane<SlabF32<false>>>, |t| self
-            .occluded_with(t, ray, stats, test))
+            .occluded_with(t, ray, stats, &mut test))
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -154,7 +155,7 @@ impl WideBvh<8> {
         &self,
         ray: &Ray,
         stats: &mut TraversalStats,
-        test: L,
+        test: &mut L,
     ) -> bool {
         use super::child_test::Avx2;
         let inv = safe_inverse(ray.dir);
@@ -182,7 +183,7 @@ impl<const W: usize> WideBvh<W> {
         child_test: T,
         ray: &Ray,
         stats: &mut TraversalStats,
-        mut leaves: L,
+        leaves: &mut L,
     ) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
@@ -229,7 +230,7 @@ impl<const W: usize> WideBvh<W> {
         child_test: T,
         ray: &Ray,
         stats: &mut TraversalStats,
-        mut leaves: L,
+        leaves: &mut L,
     ) -> bool {
         if self.nodes.is_empty() {
             return false;
