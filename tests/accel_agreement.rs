@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{Rng, all_kinds, brute, closest, occluded, rays, scenes};
+use common::{Rng, all_kinds, brute, closest, occluded, rays, same_hit, scenes};
 use lumis::accel::{Accel, AccelKind, BuildOptions, Hit, SegmentParams, Traversal};
 use lumis::geometry::{Geometry, WatertightRay};
 use lumis::math::Ray;
@@ -30,20 +30,6 @@ const TRAVERSALS: [Traversal; 4] = [
         max: 40_000.0,
     }),
 ];
-
-/// Bit-level equality: `PartialEq` on `f32` would call `0.0 == -0.0` equal.
-fn same(a: &Option<Hit>, b: &Option<Hit>) -> bool {
-    match (a, b) {
-        (None, None) => true,
-        (Some(a), Some(b)) => {
-            a.prim == b.prim
-                && a.hit.t.to_bits() == b.hit.t.to_bits()
-                && a.hit.u.to_bits() == b.hit.u.to_bits()
-                && a.hit.v.to_bits() == b.hit.v.to_bits()
-        }
-        _ => false,
-    }
-}
 
 /// Checks every kind and leaf size against brute force on `rays`; returns the number of rays.
 fn check(name: &str, g: &Geometry, rays: &[Ray]) -> usize {
@@ -84,7 +70,7 @@ fn check(name: &str, g: &Geometry, rays: &[Ray]) -> usize {
                 for (i, (r, (hit, occ))) in rays.iter().zip(&expected).enumerate() {
                     let got = closest(&accel, g, r);
                     assert!(
-                        same(&got, hit),
+                        same_hit(&got, hit),
                         "{what} ray {i} {r:?}: got {got:?}, brute {hit:?}"
                     );
                     assert_eq!(

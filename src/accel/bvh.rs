@@ -11,6 +11,16 @@ use crate::math::{Aabb, Ray, gamma};
 /// Traversal stack depth; builders stop splitting well before this (depth is checked in `validate`).
 pub(crate) const MAX_DEPTH: usize = 64;
 
+/// The largest coordinate magnitude of the ray's origin and the scene's bounds.
+#[inline(always)]
+fn coordinate_scale(ray: &Ray, root: &Aabb) -> f32 {
+    ray.origin
+        .abs()
+        .max(root.min.abs())
+        .max(root.max.abs())
+        .max_element()
+}
+
 /// Relative margin of [`CullBound::with_inverse`] over [`CullBound::new`].
 const INVERSE_MARGIN: f32 = 1.0 + 1.0 / 65536.0;
 
@@ -33,12 +43,7 @@ impl CullBound {
     /// coordinate magnitude, in units of `t` (divided by the direction's length).
     #[inline(always)]
     pub(crate) fn new(ray: &Ray, root: &Aabb) -> Self {
-        let scale = ray
-            .origin
-            .abs()
-            .max(root.min.abs())
-            .max(root.max.abs())
-            .max_element();
+        let scale = coordinate_scale(ray, root);
         // The length in f64 only when squares of subnormal or huge components under/overflow
         // in f32 (the f32 length is then 0, subnormal or infinite).
         let len = ray.dir.length();
@@ -58,12 +63,7 @@ impl CullBound {
     /// two roundings of that can differ. A larger slack only culls less, so answers are the same.
     #[inline(always)]
     pub(crate) fn with_inverse(ray: &Ray, root: &Aabb, inv: [f32; 3]) -> Self {
-        let scale = ray
-            .origin
-            .abs()
-            .max(root.min.abs())
-            .max(root.max.abs())
-            .max_element();
+        let scale = coordinate_scale(ray, root);
         let inv_len = inv[0].abs().min(inv[1].abs()).min(inv[2].abs());
         let slack = gamma(16) * scale * inv_len * (CULL_SCALE * INVERSE_MARGIN);
         Self {
@@ -288,10 +288,7 @@ impl Bvh {
         }
         let mut seen = vec![0u32; prim_bounds.len()];
         self.validate_node(0, 1, prim_bounds, &mut seen)?;
-        match seen.iter().position(|&c| c != 1) {
-            Some(p) => Err(format!("primitive {p} referenced {} times", seen[p])),
-            None => Ok(()),
-        }
+        each_once(&seen)
     }
 
     fn validate_node(
@@ -316,15 +313,7 @@ impl Bvh {
                 .prim_order
                 .get(node.first as usize..end)
                 .ok_or(format!("leaf {index} out of range"))?;
-            let mut b = Aabb::EMPTY;
-            for &p in prims {
-                let pb = prim_bounds
-                    .get(p as usize)
-                    .ok_or(format!("leaf {index}: bad primitive {p}"))?;
-                seen[p as usize] += 1;
-                b = b.union(*pb);
-            }
-            b
+            leaf_content(prims, prim_bounds, seen).map_err(|e| format!("leaf {index}: {e}"))?
         } else {
             if node.first <= index {
                 return Err(format!(
@@ -343,5 +332,30 @@ impl Bvh {
             ));
         }
         Ok(actual)
+    }
+}
+
+/// The union of a leaf's primitive boxes, counting each primitive in `seen` (for `validate`).
+pub(crate) fn leaf_content(
+    prims: &[u32],
+    prim_bounds: &[Aabb],
+    seen: &mut [u32],
+) -> Result<Aabb, String> {
+    let mut b = Aabb::EMPTY;
+    for &p in prims {
+        let pb = prim_bounds
+            .get(p as usize)
+            .ok_or(format!("bad primitive {p}"))?;
+        seen[p as usize] += 1;
+        b = b.union(*pb);
+    }
+    Ok(b)
+}
+
+/// Ok when every primitive was reached exactly once (for `validate`).
+pub(crate) fn each_once(seen: &[u32]) -> Result<(), String> {
+    match seen.iter().position(|&c| c != 1) {
+        Some(p) => Err(format!("primitive {p} referenced {} times", seen[p])),
+        None => Ok(()),
     }
 }

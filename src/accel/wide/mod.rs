@@ -13,7 +13,7 @@ mod binary;
 mod child_test;
 mod traverse;
 
-use super::bvh::{Bvh, MAX_DEPTH, Node};
+use super::bvh::{Bvh, MAX_DEPTH, Node, each_once, leaf_content};
 use crate::math::{Aabb, Vec3};
 
 /// Marks an unused child lane in [`WideNode::count`].
@@ -207,10 +207,7 @@ impl<const W: usize> WideBvh<W> {
         if content != self.bounds {
             return Err(format!("root bounds {:?} are not tight", self.bounds));
         }
-        match seen.iter().position(|&c| c != 1) {
-            Some(p) => Err(format!("primitive {p} reached {} times", seen[p])),
-            None => Ok(()),
-        }
+        each_once(&seen)
     }
 
     fn validate_node(
@@ -246,15 +243,8 @@ impl<const W: usize> WideBvh<W> {
                         .prim_order
                         .get(range)
                         .ok_or(format!("node {index} lane {lane}: leaf out of range"))?;
-                    let mut b = Aabb::EMPTY;
-                    for &p in prims {
-                        let pb = prim_bounds
-                            .get(p as usize)
-                            .ok_or(format!("node {index}: bad primitive {p}"))?;
-                        seen[p as usize] += 1;
-                        b = b.union(*pb);
-                    }
-                    b
+                    leaf_content(prims, prim_bounds, seen)
+                        .map_err(|e| format!("node {index} lane {lane}: {e}"))?
                 }
             };
             if content != node.bounds(lane) {
