@@ -29,7 +29,7 @@ pub use wide::{LEAF_ALIGN, PADDING, Wide8, WideBvh, WideNode};
 use std::sync::Arc;
 
 use crate::geometry::{
-    Geometry, PackedLeaves, PackedWatertight, Precision, PrimHit, with_prim_test,
+    Geometry, PackedLeaves, PackedWatertight, Precision, PrimHit, Primitive, with_prim_test,
 };
 use crate::math::{Aabb, Ray};
 
@@ -177,11 +177,19 @@ impl Accel {
     /// Builds `kind` over primitives with the given bounds (index = primitive index), walked
     /// with the ordered traversal.
     pub fn build(kind: AccelKind, bounds: &[Aabb], opts: &BuildOptions) -> Self {
+        Self::build_priced(kind, bounds, &[], opts)
+    }
+
+    /// [`Accel::build`] with the SAH told which primitives share a SIMD test
+    /// ([`sah::build`]); the other builders ignore `slots`.
+    fn build_priced(kind: AccelKind, bounds: &[Aabb], slots: &[u8], opts: &BuildOptions) -> Self {
         let structure = match kind {
             AccelKind::Brute => Structure::Brute(brute::Brute::new(bounds)),
             AccelKind::Bsp => Structure::Bvh(bsp::build(bounds, opts, SplitRule::SpatialCentre)),
             AccelKind::Bsmp => Structure::Bvh(bsp::build(bounds, opts, SplitRule::MedianCentroid)),
-            AccelKind::Sah => Structure::Wide(Box::new(Wide8::collapse(&sah::build(bounds, opts)))),
+            AccelKind::Sah => {
+                Structure::Wide(Box::new(Wide8::collapse(&sah::build(bounds, slots, opts))))
+            }
         };
         Self {
             kind,
@@ -194,7 +202,16 @@ impl Accel {
     /// Builds `kind` over the primitives of `geometry` and, for the wide hierarchy, copies the
     /// triangles into its leaf order ([`PackedLeaves`]) for the scene's watertight queries.
     pub fn build_for(kind: AccelKind, geometry: &Geometry, opts: &BuildOptions) -> Self {
-        let mut accel = Self::build(kind, &geometry.prim_bounds(), opts);
+        // Only triangles are packed four to a SIMD test.
+        let slots: Vec<u8> = geometry
+            .prims()
+            .iter()
+            .map(|p| match p {
+                Primitive::Triangle { .. } => sah::SHARED_SLOTS,
+                Primitive::Sphere { .. } => sah::ALONE_SLOTS,
+            })
+            .collect();
+        let mut accel = Self::build_priced(kind, &geometry.prim_bounds(), &slots, opts);
         if let Structure::Wide(w) = &accel.structure {
             accel.packed = Some(Arc::new(PackedLeaves::new(geometry, w.prim_order())));
         }

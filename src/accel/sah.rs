@@ -13,11 +13,19 @@ const BINS: usize = 16;
 /// hierarchy tests a node's boxes and a leaf's group of triangles with one SIMD test each.
 const TRAVERSAL_COST: f32 = 1.0;
 
-/// The cost of testing `n` primitives: whole groups, so leaves fill their groups.
+/// The cost of testing primitives that fill `slots` group lanes: whole groups, so leaves fill
+/// their groups.
 #[inline(always)]
-fn leaf_cost(n: u32) -> f32 {
-    n.div_ceil(LEAF_ALIGN as u32) as f32
+fn leaf_cost(slots: u32) -> f32 {
+    slots.div_ceil(LEAF_ALIGN as u32) as f32
 }
+
+/// Group lanes a primitive is priced at: a triangle shares its SIMD test with three others,
+/// anything else (a sphere) is tested on its own, so it costs a whole group. Priced as one
+/// lane, four spheres would always share a leaf, and every ray would test all four.
+pub const SHARED_SLOTS: u8 = 1;
+/// See [`SHARED_SLOTS`].
+pub const ALONE_SLOTS: u8 = LEAF_ALIGN as u8;
 /// Nodes with more primitives than this build their two halves as parallel tasks.
 const PARALLEL_MIN: usize = 32 * 1024;
 
@@ -66,9 +74,11 @@ impl Box3 {
 }
 
 /// What the builder reads of each primitive.
-struct Prims {
+struct Prims<'s> {
     bounds: Vec<Box3>,
     centroids: Vec<Vec3A>,
+    /// Group lanes per primitive ([`SHARED_SLOTS`] or [`ALONE_SLOTS`]); empty: all shared.
+    slots: &'s [u8],
     max_leaf: usize,
 }
 
@@ -85,8 +95,11 @@ struct Subtree {
     nodes: Vec<Node>,
 }
 
-/// Builds a SAH hierarchy over primitives with the given bounds.
-pub fn build(bounds: &[Aabb], opts: &BuildOptions) -> Bvh {
+/// Builds a SAH hierarchy over primitives with the given bounds, priced by the group lanes
+/// each one's test fills (`slots[p]`, see [`ALONE_SLOTS`]; an empty slice prices every
+/// primitive as [`SHARED_SLOTS`]).
+pub fn build(bounds: &[Aabb], slots: &[u8], opts: &BuildOptions) -> Bvh {
+    assert!(slots.is_empty() || slots.len() == bounds.len());
     if bounds.is_empty() {
         return Bvh::from_parts(Vec::new(), Vec::new());
     }
@@ -99,6 +112,7 @@ pub fn build(bounds: &[Aabb], opts: &BuildOptions) -> Bvh {
             })
             .collect(),
         centroids: bounds.iter().map(|b| Vec3A::from(b.center())).collect(),
+        slots,
         max_leaf: opts.max_leaf_size.max(1),
     };
     let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
@@ -116,7 +130,7 @@ pub fn build(bounds: &[Aabb], opts: &BuildOptions) -> Bvh {
     Bvh::from_parts(tree.nodes, order)
 }
 
-impl Prims {
+impl Prims<'_> {
     /// Builds the subtree over `span`, whose primitives start at `offset` in the final order.
     fn subtree(&self, span: Span<'_>, offset: usize, depth: usize) -> Subtree {
         let mut nodes = vec![leaf(&span, offset)];
@@ -179,13 +193,15 @@ impl Prims {
         for &p in span.order.iter() {
             let c = self.centroids[p as usize];
             let b = self.bounds[p as usize];
+            let lanes = self.slots.get(p as usize).map_or(1, |&s| s as u32);
             let bin = bin_indices((c - cb.min) * scale);
             for axis in 0..3 {
                 let slot = &mut bins[axis][bin[axis] as usize];
                 slot.0 = slot.0.union(b);
-                slot.1 += 1;
+                slot.1 += lanes;
             }
         }
+        let lanes: u32 = bins[0].iter().map(|b| b.1).sum();
         let parent_area = span.bounds.half_area().max(f32::MIN_POSITIVE);
         let mut best: Option<(usize, usize, f32)> = None;
         for axis in 0..3 {
@@ -225,7 +241,7 @@ impl Prims {
             }
         }
         match best {
-            Some((axis, bin, cost)) if cost < leaf_cost(n as u32) || n > self.max_leaf => {
+            Some((axis, bin, cost)) if cost < leaf_cost(lanes) || n > self.max_leaf => {
                 let (lo, s) = (cb.min[axis], scale[axis]);
                 Some(self.partition(span, |c| bin_index((c[axis] - lo) * s) < bin))
             }
@@ -343,4 +359,38 @@ fn graft(nodes: &mut Vec<Node>, at: usize, sub: Subtree) {
     };
     nodes[at] = fix(sub.nodes[0]);
     nodes.extend(sub.nodes[1..].iter().map(|&n| fix(n)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Four unit boxes in a row, two units apart.
+    fn row_of_four() -> Vec<Aabb> {
+        (0..4)
+            .map(|i| {
+                let x = 3.0 * i as f32;
+                Aabb::new(Vec3::new(x, 0.0, 0.0), Vec3::new(x + 1.0, 1.0, 1.0))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn primitives_tested_alone_are_not_priced_as_sharing_a_group() {
+        let bounds = row_of_four();
+        let opts = BuildOptions { max_leaf_size: 4 };
+        // Four triangles cost one group test together: one leaf.
+        let shared = build(&bounds, &[SHARED_SLOTS; 4], &opts);
+        assert_eq!(shared.nodes().len(), 1);
+        assert_eq!(build(&bounds, &[], &opts).nodes(), shared.nodes());
+        // Four spheres cost four tests together: split until each stands alone.
+        let alone = build(&bounds, &[ALONE_SLOTS; 4], &opts);
+        let leaves: Vec<u32> = alone
+            .nodes()
+            .iter()
+            .filter(|n| n.is_leaf())
+            .map(|n| n.count)
+            .collect();
+        assert_eq!(leaves, [1, 1, 1, 1]);
+    }
 }

@@ -96,8 +96,8 @@ impl<'a> PackedWatertight<'a> {
             packed,
             geometry,
             rows: std::array::from_fn(|i| 3 * (i / 3) + k[i % 3]),
-            origin: k.map(|a| ray.origin[a]),
-            weight: k.map(|a| wr.err_w[a]),
+            origin: k.map(|a| ray.origin.to_array()[a]),
+            weight: k.map(|a| wr.err_w.to_array()[a]),
             wr,
         }
     }
@@ -124,6 +124,11 @@ impl<'a> PackedWatertight<'a> {
         // SAFETY (whole body): each row is 4 contiguous f32; SSE is baseline on x86-64.
         unsafe {
             let row = |i: usize| _mm_loadu_ps(g.v[self.rows[i]].as_ptr());
+            // A group without triangles (spheres, padding) keeps every lane: skip the edges.
+            let first = _mm_loadu_ps(g.v[0].as_ptr());
+            if _mm_movemask_ps(_mm_cmpord_ps(first, first)) == 0 {
+                return (1 << LANES) - 1;
+            }
             let (sx, sy) = (_mm_set1_ps(self.wr.sx), _mm_set1_ps(self.wr.sy));
             let o = self.origin.map(|x| _mm_set1_ps(x));
             let w = self.weight.map(|x| _mm_set1_ps(x));

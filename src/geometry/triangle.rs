@@ -34,17 +34,19 @@ impl WatertightRay {
     #[inline]
     pub fn new(dir: Vec3) -> Self {
         let [kx, ky, kz] = shear_axes(dir);
-        let (sx, sy) = (dir[kx] / dir[kz], dir[ky] / dir[kz]);
-        let mut err_w = Vec3::ONE;
-        err_w[kz] = sx.abs() + sy.abs();
+        // Arrays, not glam's `Index`, which matches on the index at every access.
+        let d = dir.to_array();
+        let (sx, sy) = (d[kx] / d[kz], d[ky] / d[kz]);
+        let mut err_w = [EDGE_WEIGHT; 3];
+        err_w[kz] = (sx.abs() + sy.abs()) * EDGE_WEIGHT;
         Self {
             kx,
             ky,
             kz,
             sx,
             sy,
-            sz: 1.0 / dir[kz],
-            err_w: Vec3A::from(err_w * EDGE_WEIGHT),
+            sz: 1.0 / d[kz],
+            err_w: Vec3A::from_array(err_w),
         }
     }
 }
@@ -62,19 +64,14 @@ const EDGE_WEIGHT: f32 = 6.906e-4;
 #[inline(always)]
 fn shear_axes(d: Vec3) -> [usize; 3] {
     let a = d.abs();
-    let kz = if a.x >= a.y && a.x >= a.z {
-        0
+    let (kz, kx, ky, negative) = if a.x >= a.y && a.x >= a.z {
+        (0, 1, 2, d.x < 0.0)
     } else if a.y >= a.z {
-        1
+        (1, 2, 0, d.y < 0.0)
     } else {
-        2
+        (2, 0, 1, d.z < 0.0)
     };
-    let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
-    if d[kz] < 0.0 {
-        [ky, kx, kz]
-    } else {
-        [kx, ky, kz]
-    }
+    if negative { [ky, kx, kz] } else { [kx, ky, kz] }
 }
 
 /// A triangle hit: distance and the barycentric weights of `v1` and `v2` (Embree's `u`, `v`).
@@ -101,12 +98,13 @@ pub fn intersect_triangle(
     let a = p0 - ray.origin;
     let b = p1 - ray.origin;
     let c = p2 - ray.origin;
-    let ax = a[kx] - wr.sx * a[kz];
-    let ay = a[ky] - wr.sy * a[kz];
-    let bx = b[kx] - wr.sx * b[kz];
-    let by = b[ky] - wr.sy * b[kz];
-    let cx = c[kx] - wr.sx * c[kz];
-    let cy = c[ky] - wr.sy * c[kz];
+    let (aa, ba, ca) = (a.to_array(), b.to_array(), c.to_array());
+    let ax = aa[kx] - wr.sx * aa[kz];
+    let ay = aa[ky] - wr.sy * aa[kz];
+    let bx = ba[kx] - wr.sx * ba[kz];
+    let by = ba[ky] - wr.sy * ba[kz];
+    let cx = ca[kx] - wr.sx * ca[kz];
+    let cy = ca[ky] - wr.sy * ca[kz];
     let mut e0 = cx * by - cy * bx;
     let mut e1 = ax * cy - ay * cx;
     let mut e2 = bx * ay - by * ax;
@@ -144,7 +142,7 @@ pub fn intersect_triangle(
     // No early range test on the sheared f32 distance: it can be off by 1e-2 at grazing angles,
     // and rejecting on it would make exact ties (duplicate triangles) depend on visit order.
     let t = plane_distance(ray, p0, p1, p2).unwrap_or_else(|| {
-        let (az, bz, cz) = (wr.sz * a[kz], wr.sz * b[kz], wr.sz * c[kz]);
+        let (az, bz, cz) = (wr.sz * aa[kz], wr.sz * ba[kz], wr.sz * ca[kz]);
         (e0 * az + e1 * bz + e2 * cz) * inv_det
     });
     if !in_range(t, ray) {

@@ -152,6 +152,7 @@ mod tests {
             let bounds = boxes(n);
             let binary = sah::build(
                 &bounds,
+                &[],
                 &BuildOptions {
                     max_leaf_size: leaf,
                 },
