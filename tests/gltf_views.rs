@@ -164,3 +164,25 @@ fn the_default_rig_lights_the_side_a_camera_behind_the_model_sees() {
     assert_eq!(film.pixel_aov(16, 16).object_id, 0);
     assert!(centre.x > 0.3, "visible face is dark: {centre}");
 }
+
+#[test]
+fn up_z_turns_a_gltf_scene_with_its_cameras_and_lights() {
+    let options = scene::GltfOptions {
+        up: scene::UpAxis::Z,
+        ..scene::GltfOptions::default()
+    };
+    let s = scene::load_with(&asset("lights_camera.gltf"), &options).unwrap();
+    // (x, y, z) -> (x, z, -y): the ground quad at y = -0.5 now lies at z = +0.5.
+    let b = s.geometry().bounds();
+    assert_eq!(b.min.to_array(), [-5.0, -5.0, -0.5]);
+    assert_eq!(b.max.to_array(), [5.0, 5.0, 0.5]);
+    let p = s.camera().position();
+    assert!(
+        (p - lumis::math::Vec3::new(0.0, 6.0, -1.0)).length() < 1e-5,
+        "{p}"
+    );
+    let Light::Point { position, .. } = s.lights()[0] else {
+        panic!("{:?}", s.lights());
+    };
+    assert!((position - lumis::math::Vec3::new(-2.0, -2.0, -4.0)).length() < 1e-5);
+}

@@ -53,7 +53,6 @@ pub fn load_with(path: &Path, gltf_options: &GltfOptions) -> Result<Scene, Scene
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("toml") => load_toml_file(path),
         Some("gltf" | "glb") => load_gltf_file(path, gltf_options),
         Some("obj") if gltf_options.scene.is_none() && gltf_options.camera.is_none() => {
             load_bare_obj(path, gltf_options)
@@ -64,8 +63,8 @@ pub fn load_with(path: &Path, gltf_options: &GltfOptions) -> Result<Scene, Scene
             "a scene or camera index can only be chosen in glTF files, an up axis or the \
              automatic camera in glTF and OBJ files",
         )),
+        Some("toml") => load_toml_file(path),
         Some("scn") => Ok(load_scn_file(path)?),
-        Some("obj") => load_bare_obj(path, gltf_options),
         _ => Err(SceneError::UnknownFormat {
             path: path.to_path_buf(),
         }),
