@@ -184,5 +184,5 @@ fn up_z_turns_a_gltf_scene_with_its_cameras_and_lights() {
     let Light::Point { position, .. } = s.lights()[0] else {
         panic!("{:?}", s.lights());
     };
-    assert!((position - lumis::math::Vec3::new(-2.0, -2.0, -4.0)).length() < 1e-5);
+    assert!((position - lumis::math::Vec3::new(-2.0, 2.0, -4.0)).length() < 1e-5);
 }
