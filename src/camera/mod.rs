@@ -10,9 +10,17 @@
 //! focus_distance = 8.0  # distance to the plane in focus (default: |look_at - position|)
 //! ```
 //!
-//! An orthographic camera (`type = "orthographic"`, `height` = the world-space height the image
-//! spans) sends parallel rays along the view direction from the plane through `position`
-//! perpendicular to it; the width follows from the image's aspect ratio. It has no lens.
+//! An orthographic camera sends parallel rays along the view direction from the plane through
+//! `position` perpendicular to it; the width it spans follows from the image's aspect ratio. It
+//! has no lens.
+//!
+//! ```toml
+//! [camera]
+//! type = "orthographic"
+//! position = [0.0, 0.0, 10.0]
+//! look_at = [0.0, 0.0, 0.0]
+//! height = 4.0          # world-space height the image spans
+//! ```
 //!
 //! # Precision, and its limit
 //!
