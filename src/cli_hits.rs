@@ -61,6 +61,10 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
     let start = Instant::now();
     let mut scene = lumis::scene::load(&args.scene)?;
     args.accuracy.apply(scene.settings_mut())?;
+    scene
+        .settings()
+        .validate()
+        .context("the settings after the command-line overrides")?;
     let load_s = start.elapsed().as_secs_f64();
     let rays = read_rays(&args.rays)?;
     // The build runs on the same workers as the tracing, so `--threads 1` builds on one thread.

@@ -196,6 +196,9 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     st.display = args.display.unwrap_or(st.display);
     args.accuracy.apply(st)?;
     args.cutoff.apply(st)?;
+    // The same limits as every scene file's, checked before any work starts.
+    st.validate()
+        .context("the render settings after the command-line overrides")?;
     if let Some(ev) = args.exposure
         && !ev.is_finite()
     {

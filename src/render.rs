@@ -7,18 +7,11 @@ use crate::film::{Film, PixelAov};
 use crate::integrator::{RayCounts, Whitted};
 use crate::math::{Vec2, Vec4};
 use crate::rng::SampleRng;
-use crate::scene::Scene;
+use crate::scene::{Scene, SettingsError};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
 const TILE: u32 = 16;
-
-/// Largest image rendered: 2^27 pixels (~11600 x 11600) keeps the film under ~6 GB.
-pub const MAX_PIXELS: u64 = 1 << 27;
-/// Largest samples per pixel along each axis, and largest number of lens samples.
-pub const MAX_SPP: u32 = 64;
-/// Deepest reflection/refraction recursion.
-pub const MAX_DEPTH: u32 = 64;
 
 /// How to render.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -62,17 +55,9 @@ pub struct Rendered {
 /// Why a render could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
-    /// The image has no pixels, or more than [`MAX_PIXELS`].
-    #[error("image size {0}x{1} must have between 1 and {MAX_PIXELS} pixels")]
-    ImageSize(u32, u32),
-    /// A sampling or recursion setting is outside its range.
-    #[error("{name} is {value}; it must lie in {min}..={max}")]
-    OutOfRange {
-        name: &'static str,
-        value: u32,
-        min: u32,
-        max: u32,
-    },
+    /// A setting is outside what the renderer accepts ([`crate::scene::Settings::validate`]).
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
     /// The thread pool could not start.
     #[error("could not start {0} worker threads: {1}")]
     Threads(usize, String),
@@ -91,26 +76,9 @@ struct TileResult {
 pub fn render(scene: &Scene, accel: &Accel, opts: &RenderOptions) -> Result<Rendered, RenderError> {
     let st = scene.settings();
     let (width, height) = (st.width, st.height);
-    let pixels = width as u64 * height as u64;
-    if pixels == 0 || pixels > MAX_PIXELS {
-        return Err(RenderError::ImageSize(width, height));
-    }
-    // Whatever the source (scene file or flag), these bound the work per pixel and the
-    // recursion depth of the integrator (each bounce is a stack frame).
-    for (name, value, min, max) in [
-        ("samples per pixel (per axis)", st.spp, 1, MAX_SPP),
-        ("max depth", st.max_depth, 0, MAX_DEPTH),
-        ("lens samples", st.lens_samples, 1, MAX_SPP),
-    ] {
-        if !(min..=max).contains(&value) {
-            return Err(RenderError::OutOfRange {
-                name,
-                value,
-                min,
-                max,
-            });
-        }
-    }
+    // Whatever set them (a scene file, a flag, library code), these bound the work per pixel
+    // and the recursion depth of the integrator (each bounce is a stack frame).
+    st.validate()?;
     let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();

@@ -25,7 +25,10 @@ pub use gltf::{GltfOptions, LUMENS_PER_WATT, load_gltf_bytes, load_gltf_file};
 pub use mesh_m::{MeshMError, load_m_file, parse_m};
 pub use obj::{ObjModel, ObjObject, load_obj, load_obj_merged, load_obj_meshes};
 pub use scn::{ScnError, load_scn_file, parse_scn};
-pub use settings::{DEFAULT_CUTOFF, Settings};
+pub use settings::{
+    DEFAULT_CUTOFF, MAX_DEPTH, MAX_LENS_SAMPLES, MAX_PIXELS, MAX_SIDE, MAX_SPP, Settings,
+    SettingsError,
+};
 pub use toml::{Resolver, load_toml_file, load_toml_str};
 
 use std::path::Path;
@@ -48,6 +51,18 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// [`load`] with the choices model files offer: scene and camera (glTF only), up axis and
 /// automatic camera (glTF and OBJ); asking for them in any other format is an error.
 pub fn load_with(path: &Path, gltf_options: &GltfOptions) -> Result<Scene, SceneError> {
+    let scene = load_by_extension(path, gltf_options)?;
+    // Every format's settings meet the same limits (TOML and .scn also check them where they
+    // can name the element or line).
+    scene
+        .settings()
+        .validate()
+        .map_err(|e| SceneError::invalid(path, "render settings", e.to_string()))?;
+    Ok(scene)
+}
+
+/// The loader of `path`'s format.
+fn load_by_extension(path: &Path, gltf_options: &GltfOptions) -> Result<Scene, SceneError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())

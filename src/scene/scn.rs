@@ -131,11 +131,10 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
             "dispersion" => cam.dispersion = p.number("dispersion")?,
             "depthComplexity" => {
                 b.settings_mut().lens_samples =
-                    p.count("depth complexity", crate::render::MAX_SPP)?.max(1)
+                    p.count("depth complexity", super::MAX_LENS_SAMPLES)?.max(1)
             }
             "maxReflections" => {
-                b.settings_mut().max_depth =
-                    p.count("maximum reflections", crate::render::MAX_DEPTH)?
+                b.settings_mut().max_depth = p.count("maximum reflections", super::MAX_DEPTH)?
             }
             "light" => {
                 let position = p.vec3("light position")?;
@@ -196,6 +195,9 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
         }
     }
     let camera = cam.build().map_err(|e| p.err(0, format!("camera: {e}")))?;
+    b.settings_mut()
+        .validate()
+        .map_err(|e| p.err(0, format!("render settings: {e}")))?;
     Ok(b.build(camera))
 }
 
@@ -267,7 +269,7 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// A whole number in `0..=max` (the renderer's limits: see `render::MAX_DEPTH`, `MAX_SPP`).
+    /// A whole number in `0..=max` (the renderer's limits: see [`super::Settings::validate`]).
     fn count(&mut self, what: &str, max: u32) -> Result<u32, ScnError> {
         let v = self.number(what)?;
         if v >= 0.0 && v.fract() == 0.0 && v <= max as f32 {

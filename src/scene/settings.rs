@@ -7,8 +7,9 @@ use crate::output::DisplayTransform;
 
 /// The default contribution cutoff: branches below 1% of the pixel are not traced. Measured
 /// in docs/accuracy.md (`lumis bench accuracy`): 0.79x the time of no cutoff for +0.3% relMSE,
-/// far below the sampling error of the default 2x2 samples. The `.scn` loader sets 0: the
-/// paper's program traces every branch, and Table I measures its work.
+/// far below the sampling error of the default 2x2 samples. The `.scn` loader sets 0, so the
+/// paper's scenes trace every branch to `maxReflections` (the paper's program itself stops
+/// reflections below a refraction after one bounce; BENCHMARKS.md, Phase 7).
 pub const DEFAULT_CUTOFF: f32 = 0.01;
 
 /// Render settings a scene file may give; CLI flags override them.
@@ -62,5 +63,171 @@ impl Default for Settings {
             cutoff: DEFAULT_CUTOFF,
             display: DisplayTransform::Srgb,
         }
+    }
+}
+
+/// Largest image rendered: 2^27 pixels (~11600 x 11600) keeps the film under ~6 GB.
+pub const MAX_PIXELS: u64 = 1 << 27;
+/// Longest image side.
+pub const MAX_SIDE: u32 = 1 << 16;
+/// Largest samples per pixel along each axis.
+pub const MAX_SPP: u32 = 64;
+/// Largest number of lens samples per pixel sample.
+pub const MAX_LENS_SAMPLES: u32 = 64;
+/// Deepest reflection/refraction recursion (each bounce is a stack frame of the integrator).
+pub const MAX_DEPTH: u32 = 64;
+
+/// A setting outside what the renderer accepts.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SettingsError {
+    /// No pixels, a side over [`MAX_SIDE`], or more than [`MAX_PIXELS`] pixels.
+    #[error(
+        "image size {0}x{1}: each side must be in 1..={MAX_SIDE} and the image at most {MAX_PIXELS} pixels"
+    )]
+    ImageSize(u32, u32),
+    /// A count outside its range.
+    #[error("{name} {value} must be in {min}..={max}")]
+    Count {
+        /// The setting, as scene files and flags name it.
+        name: &'static str,
+        /// Its value.
+        value: u32,
+        /// Smallest allowed.
+        min: u32,
+        /// Largest allowed.
+        max: u32,
+    },
+    /// A number that is not finite or outside its range.
+    #[error("{name} {value} must be {expected}")]
+    Number {
+        /// The setting.
+        name: &'static str,
+        /// Its value.
+        value: f32,
+        /// What it must be.
+        expected: &'static str,
+    },
+}
+
+impl Settings {
+    /// Checks every limit; the one place they are written. Every loader calls this on what a
+    /// file set, the command line after its overrides, and [`crate::render::render`] before
+    /// it starts, so a value is refused with the same message wherever it came from.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let (w, h) = (self.width, self.height);
+        let side = 1..=MAX_SIDE;
+        if !side.contains(&w) || !side.contains(&h) || w as u64 * h as u64 > MAX_PIXELS {
+            return Err(SettingsError::ImageSize(w, h));
+        }
+        for (name, value, min, max) in [
+            ("spp", self.spp, 1, MAX_SPP),
+            ("max_depth", self.max_depth, 0, MAX_DEPTH),
+            ("lens samples", self.lens_samples, 1, MAX_LENS_SAMPLES),
+        ] {
+            if !(min..=max).contains(&value) {
+                return Err(SettingsError::Count {
+                    name,
+                    value,
+                    min,
+                    max,
+                });
+            }
+        }
+        let number = |name, value: f32, ok: bool, expected| {
+            if ok {
+                Ok(())
+            } else {
+                Err(SettingsError::Number {
+                    name,
+                    value,
+                    expected,
+                })
+            }
+        };
+        number(
+            "exposure",
+            self.exposure,
+            self.exposure.is_finite(),
+            "finite",
+        )?;
+        number(
+            "cutoff",
+            self.cutoff,
+            (0.0..=1.0).contains(&self.cutoff),
+            "in [0, 1]",
+        )?;
+        number(
+            "medium index of refraction",
+            self.medium_ior,
+            self.medium_ior.is_finite() && self.medium_ior > 0.0,
+            "positive and finite",
+        )?;
+        for (name, c) in [("ambient", self.ambient), ("background", self.background)] {
+            for v in c.to_array() {
+                number(
+                    name,
+                    v,
+                    v.is_finite() && v >= 0.0,
+                    "finite and non-negative",
+                )?;
+            }
+        }
+        if let Offset::Epsilon(e) = self.offset {
+            number(
+                "epsilon",
+                e,
+                e.is_finite() && e > 0.0,
+                "positive and finite",
+            )?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_each_limit_is_refused_by_name() {
+        assert_eq!(Settings::default().validate(), Ok(()));
+        let refused = |edit: &dyn Fn(&mut Settings)| {
+            let mut s = Settings::default();
+            edit(&mut s);
+            s.validate().unwrap_err().to_string()
+        };
+        assert!(refused(&|s| s.width = 0).starts_with("image size 0x360"));
+        assert!(refused(&|s| s.height = MAX_SIDE + 1).contains("65536"));
+        // Within each side's limit, but too many pixels in all.
+        assert!(refused(&|s| (s.width, s.height) = (MAX_SIDE, MAX_SIDE)).contains("134217728"));
+        assert_eq!(refused(&|s| s.spp = 0), "spp 0 must be in 1..=64");
+        assert_eq!(refused(&|s| s.spp = 65), "spp 65 must be in 1..=64");
+        assert_eq!(
+            refused(&|s| s.max_depth = 65),
+            "max_depth 65 must be in 0..=64"
+        );
+        assert_eq!(
+            refused(&|s| s.lens_samples = 0),
+            "lens samples 0 must be in 1..=64"
+        );
+        assert_eq!(
+            refused(&|s| s.exposure = f32::NAN),
+            "exposure NaN must be finite"
+        );
+        assert_eq!(refused(&|s| s.cutoff = 1.5), "cutoff 1.5 must be in [0, 1]");
+        assert!(refused(&|s| s.medium_ior = 0.0).starts_with("medium index of refraction 0"));
+        assert!(refused(&|s| s.ambient.y = -1.0).starts_with("ambient -1"));
+        assert!(refused(&|s| s.background.x = f32::INFINITY).starts_with("background inf"));
+        assert!(refused(&|s| s.offset = Offset::Epsilon(0.0)).starts_with("epsilon 0"));
+        // The edges of each range are accepted.
+        let mut s = Settings {
+            spp: MAX_SPP,
+            max_depth: 0,
+            lens_samples: MAX_LENS_SAMPLES,
+            cutoff: 1.0,
+            ..Settings::default()
+        };
+        (s.width, s.height) = (MAX_SIDE, (MAX_PIXELS / MAX_SIDE as u64) as u32);
+        assert_eq!(s.validate(), Ok(()));
     }
 }

@@ -156,18 +156,9 @@ impl Loader<'_> {
             },
             ..d
         };
-        for (field, v) in [("width", settings.width), ("height", settings.height)] {
-            if !(1..=1 << 16).contains(&v) {
-                return Err(self.err(e, format!("{field} {v} must be in 1..=65536")));
-            }
-        }
-        if !(1..=64).contains(&settings.spp) {
-            return Err(self.err(e, format!("spp {} must be in 1..=64", settings.spp)));
-        }
-        if settings.max_depth > 64 {
-            return Err(self.err(e, format!("max_depth {} exceeds 64", settings.max_depth)));
-        }
-        self.finite(e, "exposure", &[settings.exposure])?;
+        settings
+            .validate()
+            .map_err(|m| self.err(e, m.to_string()))?;
         *self.builder.settings_mut() = settings;
         Ok(())
     }
