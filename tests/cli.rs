@@ -156,7 +156,10 @@ fn png_bytes_do_not_depend_on_thread_count() {
 fn out_of_range_flags_fail_before_rendering() {
     let dir = tempfile::tempdir().unwrap();
     let cases: [(&[&str], &str); 3] = [
-        (&["--max-depth", "100000"], "max_depth 100000 must be in 0..=64"),
+        (
+            &["--max-depth", "100000"],
+            "max_depth 100000 must be in 0..=64",
+        ),
         (&["--spp", "100000"], "spp 100000 must be in 1..=64"),
         (
             &["--width", "100000", "--height", "20000"],
