@@ -349,6 +349,9 @@ def main():
     lights_camera()
     materials()
     bad()
+    # Materials, textures and attributes: tools/gltf_material_assets.py.
+    import gltf_material_assets
+    gltf_material_assets.generate(Doc, write_json, os.path.join(OUT, "materials"))
 
 
 if __name__ == "__main__":
