@@ -75,20 +75,27 @@ fn emissive_texture_multiplies_factor_and_strength() {
 
 #[test]
 fn normal_texture_bends_shading_with_file_and_generated_tangents() {
-    // Texels (218, 128, 218) and (128, 128, 255) in tangent space, tangent +x, bitangent +y.
+    // Texels in tangent space (tangent +x, bitangent +y, up the image): tipped to +x, flat /
+    // tipped to +y, to -y; lit from (1, 1, 1) with irradiance 3.
     let decode = |c: [f32; 3]| (Vec3::from(c) * (2.0 / 255.0) - Vec3::ONE).normalize();
-    let wi = Vec3::new(1.0, 0.0, 1.0).normalize();
-    let lit = |n: Vec3| Vec3::splat(1.0 + 3.0 / std::f32::consts::PI * n.dot(wi).max(0.0));
-    let tipped = lit(decode([218.0, 128.0, 218.0]));
-    let flat = lit(decode([128.0, 128.0, 255.0]));
-    assert!(tipped.x > flat.x + 0.2);
+    let wi = Vec3::ONE.normalize();
+    let lit =
+        |c: [f32; 3]| Vec3::splat(1.0 + 3.0 / std::f32::consts::PI * decode(c).dot(wi).max(0.0));
+    let quarters = [
+        (4, 4, lit([218.0, 128.0, 218.0]), "tipped to +x"),
+        (12, 4, lit([128.0, 128.0, 255.0]), "flat"),
+        (4, 12, lit([128.0, 218.0, 218.0]), "tipped to +y"),
+        (12, 12, lit([128.0, 37.0, 218.0]), "tipped to -y"),
+    ];
+    // The tips make a difference: +x and +y face the light more than flat, -y turns away.
+    assert!(quarters[0].2.x > quarters[1].2.x + 0.2 && quarters[2].2.x > quarters[1].2.x + 0.2);
+    assert!(quarters[3].2.x < 1.01);
     for name in ["normal_map.gltf", "normal_map_tangents.gltf"] {
         let mut s = load(name);
         assert!(s.warnings().is_empty(), "{:?}", s.warnings());
         let film = render_front(&mut s, 16, AccelKind::Sah);
-        for y in [3, 12] {
-            assert_rgb(&film, 3, y, tipped, name);
-            assert_rgb(&film, 12, y, flat, name);
+        for (x, y, want, what) in quarters {
+            assert_rgb(&film, x, y, want, &format!("{name}: {what}"));
         }
     }
 }

@@ -8,8 +8,9 @@ pixel shows emission + base colour * occlusion wherever the material is a rough 
 
   emissive.gltf       black base, emissiveFactor (1, 0.5, 1) x KHR_materials_emissive_strength 2 x
                       a 2x2 NEAREST emissive texture (red, green / blue, white).
-  normal_map.gltf     white quad with a 2x1 normal texture (left tipped 45 degrees to +x, right
-                      flat), no TANGENT (generated), lit by a directional light from (1, 0, 1).
+  normal_map.gltf     white quad with a 2x2 normal texture (quarters tipped 45 degrees to +x,
+                      flat / +y, -y), no TANGENT (generated), lit by a directional light from
+                      (1, 1, 1).
   normal_map_tangents.gltf  the same with TANGENT (1, 0, 0, 1) given.
   metal_rough.gltf    metallic 1 roughness 1 x a 2x1 texture: left rough dielectric, right
                       smooth metal (a mirror).
@@ -143,18 +144,17 @@ def generate(Doc, write_json, out):
     dark_light(d)
     written(d, "emissive")
 
-    # Normal maps: left texel tipped 45 degrees towards +x, right flat.
-    save_png("normal.png", 2, 1, [[(218, 128, 218), (128, 128, 255)]])
-    s = 0.5 ** 0.5
+    # Normal maps, texels tipped 45 degrees: (+x, flat / +y, -y); +y is up the image.
+    save_png("normal.png", 2, 2, [[(218, 128, 218), (128, 128, 255)],
+                                  [(128, 218, 218), (128, 37, 218)]])
     for name, tangents in (("normal_map", False), ("normal_map_tangents", True)):
         d = Doc()
         t = texture(d, image(d, "normal.png", None), NEAREST)
         m = d.material(rough(normalTexture={"index": t, "scale": 1.0}))
         extra = {"TANGENT": accessor(d, F32, "VEC4", [[1, 0, 0, 1]] * 4)} if tangents else {}
         d.node(mesh=d.mesh([quad(d, m, extra=extra)]), name="quad")
-        # Light travelling along (-1, 0, -1): -Z turned -45 degrees about Y.
-        c, sn = 0.9238795325112867, 0.3826834323650898
-        dark_light(d, [0, sn, 0, c])
+        # Light travelling along -(1, 1, 1): the rotation taking -Z there.
+        dark_light(d, rotation_between([0, 0, -1], [-3 ** -0.5] * 3))
         written(d, name)
 
     # Metal / roughness: left (G 255 rough, B 0 dielectric), right (G 0 smooth, B 255 metal).
@@ -283,6 +283,14 @@ def generate(Doc, write_json, out):
     d.node(mesh=d.mesh([quad(d, m, extra={"JOINTS_0": joints})]), name="quad")
     dark_light(d)
     written(d, "unsupported")
+
+
+def rotation_between(a, b):
+    """The unit quaternion [x, y, z, w] turning unit vector a onto unit vector b (not opposite)."""
+    cross = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    w = 1 + sum(x * y for x, y in zip(a, b))
+    n = (sum(c * c for c in cross) + w * w) ** 0.5
+    return [c / n for c in cross] + [w / n]
 
 
 def cube():
