@@ -53,7 +53,12 @@ fn describe(path: &Path, scene: &Scene) -> String {
     let cam = scene.camera();
     let _ = writeln!(
         s,
-        "camera: at {} looking along {} (lens {:?})",
+        "camera: {} at {} looking along {} (lens {:?})",
+        if cam.is_orthographic() {
+            "orthographic"
+        } else {
+            "perspective"
+        },
         cam.position(),
         cam.forward(),
         cam.lens()

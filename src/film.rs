@@ -47,6 +47,16 @@ impl Film {
         }
     }
 
+    /// Scales the colour (not alpha, not the AOV layers) by `2^stops`: the exposure, applied
+    /// once before the film is written so that the EXR and the PNG agree. Whole stops scale
+    /// by a power of two, exactly.
+    pub fn expose(&mut self, stops: f32) {
+        let scale = stops.exp2();
+        for p in &mut self.rgba {
+            *p = (p.truncate() * scale).extend(p.w);
+        }
+    }
+
     /// Width in pixels.
     pub fn width(&self) -> u32 {
         self.width

@@ -105,6 +105,19 @@ struct RenderArgs {
     /// first; the automatic framing camera when the file has none).
     #[arg(long, value_name = "N")]
     camera: Option<usize>,
+    /// glTF and OBJ files: ignore the file's cameras and frame the model automatically.
+    #[arg(long, conflicts_with = "camera")]
+    auto_camera: bool,
+    /// glTF and OBJ files: the model axis that points up; the model is turned so that it is
+    /// up in lumis's Y-up world before the automatic camera and lights are placed (default: y,
+    /// glTF's convention).
+    #[arg(long, value_enum, value_name = "AXIS")]
+    up: Option<lumis::scene::UpAxis>,
+    /// Exposure in stops: linear colour x 2^EV before the EXR and the PNG are written
+    /// (recorded in the EXR header as lumis/exposure). Default: the scene's `exposure`; for
+    /// glTF and OBJ files automatic (a high percentile of the model's luminance to 0.8).
+    #[arg(long, value_name = "EV", allow_negative_numbers = true)]
+    exposure: Option<f32>,
     /// Write 32-bit float RGBA to EXR instead of half.
     #[arg(long)]
     float: bool,
@@ -157,10 +170,16 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             &lumis::scene::GltfOptions {
                 scene: args.gltf_scene,
                 camera: args.camera,
+                up: args.up.unwrap_or_default(),
+                auto_camera: args.auto_camera,
             },
         )?,
-        None if args.gltf_scene.is_some() || args.camera.is_some() => {
-            bail!("--gltf-scene and --camera need a glTF scene file")
+        None if args.gltf_scene.is_some()
+            || args.camera.is_some()
+            || args.up.is_some()
+            || args.auto_camera =>
+        {
+            bail!("--gltf-scene, --camera, --up and --auto-camera need a model file")
         }
         None => lumis::scene::default_scene().context("loading the built-in default scene")?,
     };
@@ -177,6 +196,11 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     st.display = args.display.unwrap_or(st.display);
     args.accuracy.apply(st)?;
     args.cutoff.apply(st)?;
+    if let Some(ev) = args.exposure
+        && !ev.is_finite()
+    {
+        bail!("--exposure {ev}: expected a finite number of stops");
+    }
     let choice = args.accel.validated()?;
     let outputs = output_paths(args)?;
     times.load = t.elapsed();
@@ -195,14 +219,28 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         aov_layers: outputs.iter().any(|p| has_extension(p, "exr")),
         effects: args.effects,
     };
-    let rendered = render(&scene, &accel, &opts)?;
+    let mut rendered = render(&scene, &accel, &opts)?;
     times.render = t.elapsed();
+
+    let exposure = match args.exposure {
+        Some(ev) => ev,
+        None if args.scene.as_deref().is_some_and(is_model_file) => {
+            let ev = lumis::output::auto_exposure(&rendered.film);
+            if !args.quiet {
+                eprintln!("auto exposure: {ev:+.2} EV");
+            }
+            ev
+        }
+        None => scene.settings().exposure,
+    };
+    rendered.film.expose(exposure);
 
     let t = Instant::now();
     let meta = ExrMetadata {
         float_rgba: args.float,
         spp: scene.settings().spp.pow(2),
         render_seconds: times.render.as_secs_f32(),
+        exposure,
     };
     for path in &outputs {
         write_by_extension(
@@ -210,7 +248,8 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             &rendered.film,
             scene.camera(),
             &meta,
-            scene.settings().exposure,
+            // Already applied to the film, for the EXR too.
+            0.0,
             scene.settings().display,
         )?;
     }
@@ -265,6 +304,11 @@ fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
         );
     }
     Ok(paths)
+}
+
+/// glTF and OBJ: files whose lights say nothing about a sensible brightness.
+fn is_model_file(p: &Path) -> bool {
+    ["gltf", "glb", "obj"].iter().any(|e| has_extension(p, e))
 }
 
 fn has_extension(p: &Path, ext: &str) -> bool {

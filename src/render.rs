@@ -5,7 +5,7 @@ use crate::accel::Accel;
 use crate::effects::{Analysis, EffectMode};
 use crate::film::{Film, PixelAov};
 use crate::integrator::{RayCounts, Whitted};
-use crate::math::{Ray, Vec2, Vec4};
+use crate::math::{Vec2, Vec4};
 use crate::rng::SampleRng;
 use crate::scene::Scene;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -247,17 +247,13 @@ fn centre_aov(
 ) -> PixelAov {
     let st = scene.settings();
     let cam = scene.camera();
-    let dir = cam.pinhole_dir(
+    let ray = cam.centre_ray(
         Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
         st.width,
         st.height,
     );
     counts.aov += 1;
-    match scene.intersect(
-        integrator.accel(),
-        &Ray::new(cam.position(), dir),
-        &mut counts.traversal,
-    ) {
+    match scene.intersect(integrator.accel(), &ray, &mut counts.traversal) {
         None => PixelAov::MISS,
         // The normal is reported as the surface defines it (outward / winding), not flipped
         // towards the camera, so it compares directly with other engines' normals.

@@ -63,6 +63,7 @@ fn meta(float_rgba: bool) -> ExrMetadata {
         float_rgba,
         spp: 16,
         render_seconds: 2.75,
+        exposure: 0.0,
     }
 }
 

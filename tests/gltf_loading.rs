@@ -206,11 +206,13 @@ fn textured_quad_loads_uvs_and_applies_its_base_colour_texture() {
 fn lights_and_camera_take_their_node_transforms() {
     let s = load("lights_camera.gltf");
     assert_eq!(s.lights().len(), 3);
+    // Candela and lux to W/sr and W/m^2: divided by 683 lm/W.
+    let watts = |v: Vec3| v / lumis::scene::LUMENS_PER_WATT;
     assert_eq!(
         s.lights()[0],
         Light::Point {
             position: Vec3::new(-2.0, 4.0, 2.0),
-            intensity: Vec3::new(40.0, 20.0, 10.0),
+            intensity: watts(Vec3::new(40.0, 20.0, 10.0)),
         }
     );
     let Light::Spot {
@@ -225,7 +227,7 @@ fn lights_and_camera_take_their_node_transforms() {
     };
     assert!(close(position, Vec3::new(0.0, 4.0, 0.0)));
     assert!(close(direction, -Vec3::Y));
-    assert_eq!(intensity, Vec3::splat(100.0));
+    assert_eq!(intensity, watts(Vec3::splat(100.0)));
     assert!((cos_inner - 0.2f32.cos()).abs() < 1e-6 && (cos_outer - 0.4f32.cos()).abs() < 1e-6);
     let Light::Directional {
         direction,
@@ -235,7 +237,7 @@ fn lights_and_camera_take_their_node_transforms() {
         panic!("{:?}", s.lights()[2]);
     };
     assert!(close(direction, -Vec3::Y));
-    assert_eq!(irradiance, Vec3::new(1.0, 1.0, 2.0));
+    assert_eq!(irradiance, watts(Vec3::new(1.0, 1.0, 2.0)));
     let cam = s.camera();
     assert!(close(cam.position(), Vec3::new(0.0, 1.0, 6.0)));
     assert!(close(cam.forward(), -Vec3::Z));
@@ -246,7 +248,14 @@ fn lights_and_camera_take_their_node_transforms() {
 #[test]
 fn camera_and_scene_choices_are_checked() {
     let path = asset("lights_camera.gltf");
-    let pick = |scene, camera| scene::load_with(&path, &GltfOptions { scene, camera });
+    let pick = |scene, camera| {
+        let options = GltfOptions {
+            scene,
+            camera,
+            ..GltfOptions::default()
+        };
+        scene::load_with(&path, &options)
+    };
     assert!(pick(Some(0), Some(0)).is_ok());
     let e = format!(
         "{:#}",

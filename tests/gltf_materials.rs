@@ -1,5 +1,5 @@
 //! glTF materials, textures and vertex attributes, by their pixels: the assets
-//! `tools/gltf_material_assets.py` writes to `assets/gltf/materials/` are quads filling the
+//! `tools/lumis_tools/gltf_material_assets.py` writes to `assets/gltf/materials/` are quads filling the
 //! image of a camera on +Z, rendered with ambient 1 so that a rough dielectric pixel shows
 //! emission + base colour * occlusion (their lights have intensity 0 unless said otherwise).
 
@@ -11,6 +11,7 @@ use std::process::Command;
 use lumis::accel::{Accel, AccelKind, BuildOptions};
 use lumis::camera::Camera;
 use lumis::film::Film;
+use lumis::light::Light;
 use lumis::math::{Ray, Vec3};
 use lumis::render::{RenderOptions, render};
 use lumis::scene::{self, Scene};
@@ -41,6 +42,14 @@ fn render_front(s: &mut Scene, size: u32, kind: AccelKind) -> Film {
         ..RenderOptions::default()
     };
     render(s, &accel, &opts).unwrap().film
+}
+
+/// The irradiance of the scene's one directional light.
+fn sun(s: &Scene) -> f32 {
+    match s.lights() {
+        [Light::Directional { irradiance, .. }] => irradiance.x,
+        other => panic!("expected one directional light, got {other:?}"),
+    }
 }
 
 fn rgb(film: &Film, x: u32, y: u32) -> Vec3 {
@@ -76,11 +85,13 @@ fn emissive_texture_multiplies_factor_and_strength() {
 #[test]
 fn normal_texture_bends_shading_with_file_and_generated_tangents() {
     // Texels in tangent space (tangent +x, bitangent +y, up the image): tipped to +x, flat /
-    // tipped to +y, to -y; lit from (1, 1, 1) with irradiance 3.
+    // tipped to +y, to -y; lit from (1, 1, 1) with irradiance 3 (2049 lux / 683 lm/W).
     let decode = |c: [f32; 3]| (Vec3::from(c) * (2.0 / 255.0) - Vec3::ONE).normalize();
+    let e = sun(&load("normal_map.gltf"));
+    assert!((e - 3.0).abs() < 1e-3, "{e}");
     let wi = Vec3::ONE.normalize();
     let lit =
-        |c: [f32; 3]| Vec3::splat(1.0 + 3.0 / std::f32::consts::PI * decode(c).dot(wi).max(0.0));
+        |c: [f32; 3]| Vec3::splat(1.0 + e / std::f32::consts::PI * decode(c).dot(wi).max(0.0));
     let quarters = [
         (4, 4, lit([218.0, 128.0, 218.0]), "tipped to +x"),
         (12, 4, lit([128.0, 128.0, 255.0]), "flat"),
@@ -251,9 +262,10 @@ fn alpha_mask_cuts_holes_for_camera_and_shadow_rays_in_every_accelerator() {
     }
     let film = &films[0];
     // render_front sets ambient 1: wall kd (0.2, 0.2, 1) and quad kd (1, 0.2, 0.2), each lit
-    // head-on by irradiance 3.
-    let wall = Vec3::new(0.2, 0.2, 1.0) * (1.0 + 3.0 / std::f32::consts::PI);
-    let quad = Vec3::new(1.0, 0.2, 0.2) * (1.0 + 3.0 / std::f32::consts::PI);
+    // head-on by the light's irradiance.
+    let lit = 1.0 + sun(&s) / std::f32::consts::PI;
+    let wall = Vec3::new(0.2, 0.2, 1.0) * lit;
+    let quad = Vec3::new(1.0, 0.2, 0.2) * lit;
     // Through the hole: the wall, lit, since the light's rays pass the hole too.
     assert_rgb(film, 3, 8, wall, "wall through the hole");
     assert_rgb(film, 12, 8, quad, "opaque half");

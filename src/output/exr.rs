@@ -3,7 +3,7 @@
 //!
 //! | channel                 | type          | content                                            |
 //! |-------------------------|---------------|----------------------------------------------------|
-//! | `R`, `G`, `B`, `A`      | HALF or FLOAT | linear, premultiplied RGBA exactly as in the film  |
+//! | `R`, `G`, `B`, `A`      | HALF or FLOAT | linear, premultiplied RGBA exactly as in the film (exposure already applied) |
 //! | `Z`                     | FLOAT         | camera-space depth along the view axis; `+inf` where the centre ray missed |
 //! | `N.X`, `N.Y`, `N.Z`     | FLOAT         | world-space unit shading normal; 0 where missed    |
 //! | `id.prim`, `id.object`  | FLOAT         | primitive / object index as a float; -1 where missed |
@@ -32,6 +32,8 @@ pub const ATTR_RENDERER: &str = "lumis/renderer";
 pub const ATTR_SPP: &str = "lumis/spp";
 /// Custom float attribute: wall-clock render time in seconds.
 pub const ATTR_RENDER_SECONDS: &str = "lumis/renderSeconds";
+/// Custom float attribute: the exposure in stops (EV) the colour was scaled by, `2^EV`.
+pub const ATTR_EXPOSURE: &str = "lumis/exposure";
 
 /// Render facts written into the EXR header alongside the pixels.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -43,6 +45,9 @@ pub struct ExrMetadata {
     pub spp: u32,
     /// Wall-clock render time in seconds.
     pub render_seconds: f32,
+    /// The exposure in stops already applied to the film's colour ([`crate::film::Film::expose`]);
+    /// recorded, not applied, here.
+    pub exposure: f32,
 }
 
 /// Writes `film` to `path` as OpenEXR (channels and attributes in the module docs), atomically:
@@ -130,6 +135,7 @@ fn build_layer(
             ATTR_RENDER_SECONDS,
             AttributeValue::F32(meta.render_seconds),
         ),
+        (ATTR_EXPOSURE, AttributeValue::F32(meta.exposure)),
     ] {
         attributes.other.insert(Text::from(name), value);
     }

@@ -9,12 +9,13 @@
 //! [output]
 //! path = "render.exr"   # .exr or .png, chosen by extension (case-insensitive)
 //! float_rgba = false    # EXR only: f32 instead of half for R, G, B, A
-//! exposure = 0.0        # PNG only: stops applied before the display transform
+//! exposure = 0.0        # stops: linear colour x 2^exposure, in the EXR and the PNG
 //! display = "srgb"      # PNG only: "srgb" transfer curve or "clamp" (value x 255)
 //! ```
 
 mod atomic;
 mod display;
+mod exposure;
 
 pub(crate) use self::atomic::write_atomically;
 mod exr;
@@ -26,8 +27,10 @@ use crate::camera::Camera;
 use crate::film::Film;
 
 pub use self::display::{DisplayTransform, linear_to_srgb8};
+pub use self::exposure::{AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET, auto_exposure};
 pub use self::exr::{
-    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ExrMetadata, SOFTWARE, imath_m44f, write_exr,
+    ATTR_EXPOSURE, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ExrMetadata, SOFTWARE, imath_m44f,
+    write_exr,
 };
 pub use self::png::write_png;
 

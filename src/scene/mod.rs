@@ -18,10 +18,10 @@ mod settings;
 mod toml;
 mod toml_schema;
 
-pub use auto::{default_rig, framing_camera};
+pub use auto::{UpAxis, default_rig, framing_camera};
 pub use builtin::default_scene;
 pub use error::SceneError;
-pub use gltf::{GltfOptions, load_gltf_bytes, load_gltf_file};
+pub use gltf::{GltfOptions, LUMENS_PER_WATT, load_gltf_bytes, load_gltf_file};
 pub use mesh_m::{MeshMError, load_m_file, parse_m};
 pub use obj::{ObjModel, ObjObject, load_obj, load_obj_merged, load_obj_meshes};
 pub use scn::{ScnError, load_scn_file, parse_scn};
@@ -45,31 +45,35 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     load_with(path, &GltfOptions::default())
 }
 
-/// [`load`] with the choices only glTF files offer (scene and camera); asking for a scene or a
-/// camera of any other format is an error.
+/// [`load`] with the choices model files offer: scene and camera (glTF only), up axis and
+/// automatic camera (glTF and OBJ); asking for them in any other format is an error.
 pub fn load_with(path: &Path, gltf_options: &GltfOptions) -> Result<Scene, SceneError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("toml") => load_toml_file(path),
         Some("gltf" | "glb") => load_gltf_file(path, gltf_options),
+        Some("obj") if gltf_options.scene.is_none() && gltf_options.camera.is_none() => {
+            load_bare_obj(path, gltf_options)
+        }
         _ if *gltf_options != GltfOptions::default() => Err(SceneError::invalid(
             path,
             "options",
-            "a scene or camera index can only be chosen in glTF files",
+            "a scene or camera index can only be chosen in glTF files, an up axis or the \
+             automatic camera in glTF and OBJ files",
         )),
+        Some("toml") => load_toml_file(path),
         Some("scn") => Ok(load_scn_file(path)?),
-        Some("obj") => load_bare_obj(path),
         _ => Err(SceneError::UnknownFormat {
             path: path.to_path_buf(),
         }),
     }
 }
 
-/// A bare OBJ file as a scene: one scene object per OBJ object, materials from its MTL files.
-fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {
+/// A bare OBJ file as a scene: one scene object per OBJ object, materials from its MTL files,
+/// turned so that `options.up` is up (the other options are glTF's).
+fn load_bare_obj(path: &Path, options: &GltfOptions) -> Result<Scene, SceneError> {
     let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
         path: path.to_path_buf(),
         source,
@@ -85,16 +89,22 @@ fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {
         .map(|m| b.add_material(m))
         .collect();
     let default = b.add_material(Material::default());
+    let turn = options.up.to_y_up();
     for o in model.objects {
         let material = o.material.map_or(default, |k| ids[k]);
-        b.add_mesh(o.name, o.mesh, material);
+        let mesh = match options.up {
+            UpAxis::Y => o.mesh,
+            UpAxis::Z => o.mesh.transformed(&turn),
+        };
+        b.add_mesh(o.name, mesh, material);
     }
     let bounds = b.bounds();
-    for light in default_rig(bounds) {
+    let (w, h) = (b.settings_mut().width, b.settings_mut().height);
+    let camera = framing_camera(bounds, w, h);
+    for light in default_rig(bounds, &camera) {
         b.add_light(light);
     }
-    let (w, h) = (b.settings_mut().width, b.settings_mut().height);
-    Ok(b.build(framing_camera(bounds, w, h)))
+    Ok(b.build(camera))
 }
 
 /// A named thing in the scene (a sphere or a mesh) with one material.

@@ -290,17 +290,40 @@ impl Loader<'_> {
         self.finite(e, "look_at", &c.look_at)?;
         let up = c.up.unwrap_or([0.0, 1.0, 0.0]);
         self.finite(e, "up", &up)?;
-        let fov = c.fov.unwrap_or(40.0);
-        let aperture = c.aperture.unwrap_or(0.0);
-        self.finite(e, "fov, aperture", &[fov, aperture])?;
-        Camera::look_at(
+        let (position, look_at, up) = (
             Vec3::from(c.position),
             Vec3::from(c.look_at),
             Vec3::from(up),
-            fov,
-            aperture,
-            c.focus_distance,
-        )
-        .map_err(|err| self.err(e, err.to_string()))
+        );
+        match c.kind.as_deref() {
+            None | Some("perspective") if c.height.is_none() => {}
+            None | Some("perspective") => {
+                return Err(self.err(e, "height is for orthographic cameras; use fov"));
+            }
+            Some("orthographic") => {
+                if c.fov.is_some() || c.aperture.is_some() || c.focus_distance.is_some() {
+                    return Err(self.err(
+                        e,
+                        "an orthographic camera takes height, not fov, aperture or focus_distance",
+                    ));
+                }
+                let height = c
+                    .height
+                    .ok_or_else(|| self.err(e, "an orthographic camera needs height"))?;
+                return Camera::orthographic(position, look_at, up, height)
+                    .map_err(|err| self.err(e, err.to_string()));
+            }
+            Some(other) => {
+                return Err(self.err(
+                    e,
+                    format!("type {other:?}: expected \"perspective\" or \"orthographic\""),
+                ));
+            }
+        }
+        let fov = c.fov.unwrap_or(40.0);
+        let aperture = c.aperture.unwrap_or(0.0);
+        self.finite(e, "fov, aperture", &[fov, aperture])?;
+        Camera::look_at(position, look_at, up, fov, aperture, c.focus_distance)
+            .map_err(|err| self.err(e, err.to_string()))
     }
 }

@@ -45,6 +45,11 @@ pub(super) struct RenderDoc {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CameraDoc {
+    /// `"perspective"` (default) or `"orthographic"`.
+    #[serde(rename = "type")]
+    pub kind: Option<String>,
+    /// Orthographic only: the world-space height the image spans.
+    pub height: Option<f32>,
     pub position: [f32; 3],
     pub look_at: [f32; 3],
     pub up: Option<[f32; 3]>,

@@ -11,21 +11,71 @@ from pathlib import Path
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[2]
+from . import REPO
+from .exitcodes import SetupError
+
+# Inputs of the release build: a binary older than the newest of them may not be the code under
+# test. Files, or folders searched recursively, relative to the repository.
+BUILD_INPUTS = ("src", "Cargo.toml", "Cargo.lock")
+
+# Set by --lumis PATH (see add_argument): an explicit binary, used as it is.
+_explicit: Path | None = None
 
 
-class LumisError(Exception):
-    """lumis failed; the message carries its stderr."""
+class LumisError(SetupError):
+    """lumis failed; the message carries its stderr. The check could not be made: status 2."""
+
+
+class StaleBinary(SetupError):
+    """target/release/lumis is older than a source file it is built from."""
+
+
+def add_argument(parser):
+    """The `--lumis PATH` option every tool that runs lumis has."""
+    parser.add_argument("--lumis", type=Path, metavar="PATH",
+                        help="the lumis binary to run, as it is (default: $LUMIS_BIN, else "
+                        "target/release/lumis of this checkout, built when missing and refused "
+                        "when older than src/, Cargo.toml or Cargo.lock)")
+
+
+def use(path):
+    """Runs `path` from now on, without the staleness check (for --lumis PATH)."""
+    global _explicit
+    _explicit = Path(path) if path is not None else None
+
+
+def newer_input(exe: Path, repo: Path):
+    """The newest build input (see BUILD_INPUTS) modified after `exe`, or None."""
+    built = exe.stat().st_mtime
+    newest, newest_t = None, built
+    for name in BUILD_INPUTS:
+        top = repo / name
+        files = top.rglob("*") if top.is_dir() else [top]
+        for f in files:
+            if f.is_file() and f.stat().st_mtime > newest_t:
+                newest, newest_t = f, f.stat().st_mtime
+    return newest
 
 
 def binary() -> Path:
-    """`$LUMIS_BIN`, else the release build in this checkout (built on first use)."""
+    """The binary to run: --lumis PATH, else `$LUMIS_BIN` (both as they are), else the release
+    build in this checkout: built with `cargo build --release` when missing, refused (status 2)
+    when a source file is newer, so that a check or a benchmark never reports on old code."""
+    if _explicit is not None:
+        return _explicit
     env = os.environ.get("LUMIS_BIN")
     if env:
         return Path(env)
     exe = REPO / "target" / "release" / "lumis"
     if not exe.exists():
-        subprocess.run(["cargo", "build", "--release", "--quiet"], cwd=REPO, check=True)
+        p = subprocess.run(["cargo", "build", "--release", "--quiet"], cwd=REPO)
+        if p.returncode != 0 or not exe.exists():
+            raise SetupError(f"`cargo build --release` failed (exit {p.returncode}) in {REPO}")
+    stale = newer_input(exe, REPO)
+    if stale is not None:
+        raise StaleBinary(
+            f"{exe} is older than {stale.relative_to(REPO)}: run `cargo build --release` "
+            "first (or pass --lumis PATH, or set LUMIS_BIN, to run a binary as it is)")
     return exe
 
 

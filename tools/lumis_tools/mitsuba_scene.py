@@ -140,7 +140,3 @@ def mitsuba_scene_dict(mi, folder: Path, width, height, spp_axis, k):
         "floor": {"type": "ply", "filename": str(folder / "floor.ply"), "face_normals": True,
                   "bsdf": grey},
     }
-
-
-# ---------------------------------------------------------------------------------------------
-# Engines

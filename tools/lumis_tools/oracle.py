@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .embree import EmbreeScene
 from .geometry import Geometry
 
 # Ray x sphere pairs per numpy batch: bounds memory at a few hundred MiB.
@@ -36,14 +37,7 @@ class Oracle:
         self.geometry = geometry
         self._embree = None
         if len(geometry.triangles):
-            from embreex import rtcore_scene as rtcs
-            from embreex.mesh_construction import TriangleMesh
-
-            self._embree = rtcs.EmbreeScene(robust=True)
-            verts = geometry.triangles.reshape(-1, 3).astype(np.float32)
-            faces = np.arange(len(verts), dtype=np.int32).reshape(-1, 3)
-            # Kept alive with the scene: embreex shares the buffers.
-            self._mesh = TriangleMesh(self._embree, verts, faces)
+            self._embree = EmbreeScene(geometry.triangles, robust=True)
 
     def trace(self, rays: np.ndarray) -> OracleHits:
         """Closest hits of `(N, 8)` float32 rays with t in [0, t_max]. Embree through embreex
@@ -61,9 +55,7 @@ class Oracle:
         t_embree = np.full(n, np.inf)
         t_max = rays[:, 7].astype(np.float64)
         if self._embree is not None and n:
-            dists = np.minimum(rays[:, 7], np.float32(3.0e38)).astype(np.float32)
-            out = self._embree.run(np.ascontiguousarray(rays[:, 0:3]),
-                                   np.ascontiguousarray(rays[:, 3:6]), dists=dists, output=True)
+            out = self._embree.intersect(rays)
             hit = out["primID"] >= 0
             t_embree[hit] = out["tfar"][hit]
             kind[hit] = 1

@@ -12,7 +12,7 @@ import subprocess
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[2]
+from . import REPO
 SHARED = REPO.parent / "shared"
 SCENES_DIR = SHARED / "paper-scenes" / "scenes"
 ORIGINAL_DIR = SHARED / "paper-original"

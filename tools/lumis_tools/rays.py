@@ -1,10 +1,14 @@
-"""Seeded ray sets for the cross-checks. Every set returns float32 `(N, 8)` rays (origin,
-direction, t_min = 0, t_max = inf) plus per-ray extras some checks need.
+"""Every seeded ray set the tools trace: the cross-checks' five (incoherent, camera, grazing,
+leaving surfaces, edges and vertices) and the Embree benchmark's three (around the box, an
+orbit camera, all-miss). Every set is float32 `(N, 8)` rays (origin, direction, t_min = 0,
+t_max = inf), plus per-ray extras some checks need.
 
 All origins and directions are computed in float64 and rounded to float32 once, so both engines
 trace exactly the same rays."""
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -212,3 +216,61 @@ def _lex_less(a, b):
         out |= lt
         decided |= lt | gt
     return out
+
+
+# ---------------------------------------------------------------------------------------------
+# The Embree benchmark's sets (tools/lumis_tools/bench_embree.py), on a bounding box: seeded by
+# their own generator, so the benchmark's figures stay comparable between versions.
+
+BENCH_CAMERA_FOV_DEG = 40.0
+
+
+def unit_rays(origins, dirs):
+    """float32 (N, 8) rays with unit directions, t in [0, inf)."""
+    return pack(origins, unit(dirs))
+
+
+def bench_incoherent(lo, hi, n, seed):
+    """Origins on a sphere of twice the bounding radius, aimed at uniform points of the box."""
+    rng = np.random.default_rng(seed)
+    centre, radius = (lo + hi) / 2, np.linalg.norm(hi - lo) / 2
+    on_sphere = rng.normal(size=(n, 3))
+    on_sphere /= np.linalg.norm(on_sphere, axis=1, keepdims=True)
+    origins = centre + 2 * radius * on_sphere
+    targets = lo + rng.random((n, 3)) * (hi - lo)
+    return unit_rays(origins, targets - origins)
+
+
+def bench_all_miss(lo, hi, n, seed):
+    """The incoherent origins, each pointing straight away from the model: every ray misses
+    the root box, so its time is the per-ray fixed cost (ray set-up, root test, hit record)."""
+    rays = bench_incoherent(lo, hi, n, seed)
+    centre = (lo + hi) / 2
+    rays[:, 3:6] = unit_rays(rays[:, 0:3], rays[:, 0:3] - centre)[:, 3:6]
+    return rays
+
+
+def bench_camera(points, width, height):
+    """Pinhole grid from azimuth 45 degrees, elevation 30 degrees (y up), aimed at the middle of
+    the model's outline and at the nearest distance (plus 2%) that keeps every vertex in the
+    frame."""
+    az, el = math.radians(45), math.radians(30)
+    back = np.array([math.sin(az) * math.cos(el), math.sin(el), math.cos(az) * math.cos(el)])
+    forward = -back
+    right = np.cross(forward, [0.0, 1.0, 0.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    x, y = points @ right, points @ up
+    centre = (points.min(0) + points.max(0)) / 2
+    centre += ((x.min() + x.max()) / 2 - centre @ right) * right
+    centre += ((y.min() + y.max()) / 2 - centre @ up) * up
+    tan_v = math.tan(math.radians(BENCH_CAMERA_FOV_DEG) / 2)
+    tan_h = tan_v * width / height
+    rel = points - centre
+    need = rel @ back + np.maximum(np.abs(rel @ right) / tan_h, np.abs(rel @ up) / tan_v)
+    eye = centre + back * need.max() * 1.02
+    xs = ((np.arange(width) + 0.5) / width * 2 - 1) * tan_h
+    ys = (1 - (np.arange(height) + 0.5) / height * 2) * tan_v
+    gx, gy = np.meshgrid(xs, ys)
+    dirs = forward + gx.reshape(-1, 1) * right + gy.reshape(-1, 1) * up
+    return unit_rays(np.broadcast_to(eye, dirs.shape), dirs)

@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use gltf::Document;
 
 use super::super::{Resolver, SceneError};
+use super::lenient;
 
 /// Extensions lumis understands; a file that requires any other one is refused.
 pub(super) const SUPPORTED_EXTENSIONS: &[&str] = &[
@@ -23,8 +24,13 @@ pub(super) const SUPPORTED_EXTENSIONS: &[&str] = &[
 ];
 
 /// Parses a .gltf (JSON) or .glb file, refuses unsupported required extensions, and validates
-/// the document's references. Returns the document and the GLB binary chunk, if any.
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<(Document, Option<Vec<u8>>), SceneError> {
+/// the document's references (leniently where the specification is: see [`lenient`]). Returns
+/// the document and the GLB binary chunk, if any.
+pub(super) fn parse(
+    bytes: &[u8],
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<(Document, Option<Vec<u8>>), SceneError> {
     let fail = |message: String| SceneError::Gltf {
         path: path.to_path_buf(),
         message,
@@ -50,8 +56,13 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<(Document, Option<Vec<u
             }
         }
     }
-    let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| fail(describe(&e)))?;
+    let (json, blob) = if bytes.starts_with(b"glTF") {
+        let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| fail(describe(&e)))?;
+        (glb.json, glb.bin.map(std::borrow::Cow::into_owned))
+    } else {
+        (std::borrow::Cow::Borrowed(bytes), None)
+    };
+    let document = Document::from_json_without_validation(lenient::root(&json, path, warnings)?);
     // Checked before validation, which would only say "unsupported extension" without its name.
     for (i, ext) in document.extensions_required().enumerate() {
         if !SUPPORTED_EXTENSIONS.contains(&ext) {
@@ -91,7 +102,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<(Document, Option<Vec<u
             }
         }
     }
-    let document = Document::from_json(json).map_err(|e| fail(describe(&e)))?;
+    let document = lenient::validate(json, path, warnings)?;
     Ok((document, blob))
 }
 

@@ -3,8 +3,10 @@
 //! can make the reader panic and every error names the file and the element.
 //!
 //! What is read: the chosen scene's node hierarchy, triangle primitives, metallic-roughness
-//! materials (rules in [`materials`]), `KHR_lights_punctual`, perspective cameras. Files with no
-//! camera get the automatic framing camera, files with no light the default rig. The full
+//! materials (rules in [`materials`]), `KHR_lights_punctual` (photometric units converted, see
+//! [`nodes::light`]), perspective and orthographic cameras. Files with no camera get the
+//! automatic framing camera, files with no light the default rig placed relative to the camera
+//! used. Valid files the `gltf` crate alone would refuse are read through [`lenient`]. The full
 //! mapping is in `docs/gltf.md`.
 //!
 //! ```sh
@@ -13,6 +15,7 @@
 
 mod accessor;
 mod buffers;
+mod lenient;
 mod materials;
 mod nodes;
 mod primitives;
@@ -23,10 +26,11 @@ use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::path::Path;
 
-use super::{Resolver, Scene, SceneBuilder, SceneError, auto};
+use super::{Resolver, Scene, SceneBuilder, SceneError, UpAxis, auto};
 use crate::geometry::Mesh;
 
-/// Choices a glTF file leaves to the caller.
+/// Choices a model file leaves to the caller: `scene` and `camera` only exist in glTF files,
+/// `up` and `auto_camera` apply to OBJ files too.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct GltfOptions {
     /// Index of the scene to render (`--gltf-scene`); `None`: the file's default scene.
@@ -34,6 +38,11 @@ pub struct GltfOptions {
     /// Which camera to look through (`--camera`): the N-th camera node met depth first in the
     /// scene's hierarchy; `None`: the first, or the automatic framing camera when there is none.
     pub camera: Option<usize>,
+    /// Which model axis is up (`--up`); the model is turned to lumis's Y-up world before the
+    /// automatic camera and light rig are placed. glTF is Y-up by specification.
+    pub up: UpAxis,
+    /// Ignore the file's cameras and use the automatic framing camera (`--auto-camera`).
+    pub auto_camera: bool,
 }
 
 /// Loads the `.gltf` or `.glb` file at `path`; external buffers are read from disk relative to
@@ -73,12 +82,12 @@ fn load_inner(
     resolver: Resolver<'_>,
     options: &GltfOptions,
 ) -> Result<Scene, SceneError> {
-    let (doc, blob) = buffers::parse(bytes, origin)?;
+    let mut warnings = Vec::new();
+    let (doc, blob) = buffers::parse(bytes, origin, &mut warnings)?;
     let data = buffers::load_buffers(&doc, blob, origin, resolver)?;
     buffers::check_accessors(&doc, &data, origin)?;
-    let placed = nodes::flatten(&doc, options.scene, origin)?;
+    let placed = nodes::flatten(&doc, options.scene, options.up.to_y_up(), origin)?;
 
-    let mut warnings = Vec::new();
     let mut b = SceneBuilder::new();
     // One lumis material per glTF material, converted in file order; images decoded once.
     let mut images = textures::Images::new(&data, origin, resolver);
@@ -114,6 +123,16 @@ fn load_inner(
                 ));
             }
             for prim in mesh.primitives() {
+                if prim.get(&gltf::Semantic::Positions).is_none() {
+                    // Allowed by the specification, which asks that such primitives be skipped.
+                    warnings.push(format!(
+                        "{}: meshes[{}].primitives[{}]: no POSITION attribute; not drawn",
+                        origin.display(),
+                        mesh.index(),
+                        prim.index()
+                    ));
+                    continue;
+                }
                 let index = prim.material().index();
                 let conv = index.and_then(|i| converted.get(i)).unwrap_or(&fallback);
                 let object_mesh = match cache.entry((mesh.index(), prim.index())) {
@@ -159,31 +178,17 @@ fn load_inner(
         }
         if let Some(camera) = node.camera() {
             let element = format!("cameras[{}] at nodes[{}]", camera.index(), node.index());
-            match nodes::camera(&camera, world, &element, origin)? {
-                Some(c) => cameras.push(c),
-                None => warnings.push(format!(
-                    "{}: {element}: orthographic cameras are not supported; skipped",
-                    origin.display()
-                )),
-            }
+            cameras.push(nodes::camera(&camera, world, &element, origin)?);
         }
     }
 
     let bounds = b.bounds();
     if bounds.is_empty() {
-        return Err(SceneError::invalid(
-            origin,
-            "scene",
-            "has no triangles to render",
+        // A scene without nodes, or whose meshes draw nothing, is valid glTF.
+        warnings.push(format!(
+            "{}: the scene has no triangles: the image shows only the background",
+            origin.display()
         ));
-    }
-    if !file_has_lights {
-        for light in auto::default_rig(bounds) {
-            b.add_light(light);
-        }
-    }
-    for w in warnings {
-        b.warn(w);
     }
     let chosen = match options.camera {
         Some(i) => Some(cameras.get(i).cloned().ok_or_else(|| {
@@ -191,11 +196,12 @@ fn load_inner(
                 origin,
                 "cameras",
                 format!(
-                    "camera {i} was asked for, but the scene places {} perspective cameras",
+                    "camera {i} was asked for, but the scene places {} cameras",
                     cameras.len()
                 ),
             )
         })?),
+        None if options.auto_camera => None,
         None => cameras.first().cloned(),
     };
     let settings = b.settings_mut();
@@ -210,7 +216,16 @@ fn load_inner(
         }
         None => auto::framing_camera(bounds, settings.width, settings.height),
     };
+    if !file_has_lights && !bounds.is_empty() {
+        for light in auto::default_rig(bounds, &camera) {
+            b.add_light(light);
+        }
+    }
+    for w in warnings {
+        b.warn(w);
+    }
     Ok(b.build(camera))
 }
 
+pub use nodes::LUMENS_PER_WATT;
 use nodes::Placed;

@@ -18,11 +18,13 @@ pub(super) struct Placed<'a> {
 }
 
 /// Every node of scene `choice` (default: the file's `scene`, else scene 0, else every root
-/// node) depth first in file order, with world transforms. A node reached twice (a cycle, or a
-/// child of two parents, both invalid glTF) and a non-finite transform are errors.
+/// node) depth first in file order, with world transforms: `root` (the up-axis turn) times the
+/// node hierarchy. A node reached twice (a cycle, or a child of two parents, both invalid glTF)
+/// and a non-finite transform are errors.
 pub(super) fn flatten<'a>(
     doc: &'a gltf::Document,
     choice: Option<usize>,
+    root: Mat4,
     origin: &Path,
 ) -> Result<Vec<Placed<'a>>, SceneError> {
     let roots: Vec<gltf::Node> = match choice {
@@ -55,11 +57,7 @@ pub(super) fn flatten<'a>(
     let mut seen = vec![false; doc.nodes().len()];
     let mut out = Vec::new();
     // An explicit stack: a long chain of nodes must not overflow the call stack.
-    let mut stack: Vec<(gltf::Node, Mat4)> = roots
-        .into_iter()
-        .rev()
-        .map(|n| (n, Mat4::IDENTITY))
-        .collect();
+    let mut stack: Vec<(gltf::Node, Mat4)> = roots.into_iter().rev().map(|n| (n, root)).collect();
     while let Some((node, parent)) = stack.pop() {
         let element = format!("nodes[{}]", node.index());
         if std::mem::replace(&mut seen[node.index()], true) {
@@ -84,9 +82,15 @@ pub(super) fn flatten<'a>(
     Ok(out)
 }
 
+/// Lumens per watt: the luminous efficacy of 555 nm light, which defines the candela. glTF
+/// light intensities are photometric (candela, lux); lumis's are radiometric (W/sr, W/m^2).
+pub const LUMENS_PER_WATT: f32 = 683.0;
+
 /// A `KHR_lights_punctual` light placed by `world`. Units: intensity in candela (point, spot)
-/// becomes lumis radiant intensity one to one, lux (directional) becomes irradiance one to one;
-/// `range` is ignored (lights fall off as 1/d^2 without a cut-off).
+/// becomes radiant intensity in W/sr and lux (directional) irradiance in W/m^2, both divided by
+/// [`LUMENS_PER_WATT`] (as if all the light were at 555 nm; the colour stays the file's linear
+/// RGB). A 68,300 lux sun is 100 W/m^2; the exposure brings that into range. `range` is
+/// ignored (lights fall off as 1/d^2 without a cut-off).
 pub(super) fn light(
     l: &gltf::khr_lights_punctual::Light,
     world: &Mat4,
@@ -102,7 +106,7 @@ pub(super) fn light(
             l.intensity()
         )));
     }
-    let power = color * l.intensity();
+    let power = color * (l.intensity() / LUMENS_PER_WATT);
     let position = world.transform_point3(Vec3::ZERO);
     let direction = world.transform_vector3(-Vec3::Z).try_normalize();
     let direction = || direction.ok_or_else(|| err("the node's -Z axis is degenerate".into()));
@@ -139,29 +143,48 @@ pub(super) fn light(
     })
 }
 
-/// A perspective camera at `world`'s origin looking down its -Z with its +Y up; the aspect
-/// ratio the file gives, if any. `None` for orthographic cameras (lumis has no such camera).
+/// A camera at `world`'s origin looking down its -Z with its +Y up, and the aspect ratio the
+/// file gives, if any. Orthographic: the image spans `2 ymag` vertically and the width follows
+/// from the image size; `xmag / ymag` is the file's aspect ratio. Rays start on the camera's
+/// plane, not at `znear`: a Whitted renderer has no clipping planes.
 pub(super) fn camera(
     c: &gltf::Camera,
     world: &Mat4,
     element: &str,
     origin: &Path,
-) -> Result<Option<(Camera, Option<f32>)>, SceneError> {
-    let gltf::camera::Projection::Perspective(p) = c.projection() else {
-        return Ok(None);
-    };
+) -> Result<(Camera, Option<f32>), SceneError> {
+    let err = |m: String| SceneError::invalid(origin, element, m);
     let position = world.transform_point3(Vec3::ZERO);
     let forward = world.transform_vector3(-Vec3::Z);
     let up = world.transform_vector3(Vec3::Y);
-    let camera = Camera::look_at(
-        position,
-        position + forward,
-        up,
-        p.yfov().to_degrees(),
-        0.0,
-        None,
-    )
-    .map_err(|e| SceneError::invalid(origin, element, e.to_string()))?;
-    let aspect = p.aspect_ratio().filter(|a| *a > 0.0 && a.is_finite());
-    Ok(Some((camera, aspect)))
+    match c.projection() {
+        gltf::camera::Projection::Perspective(p) => {
+            let camera = Camera::look_at(
+                position,
+                position + forward,
+                up,
+                p.yfov().to_degrees(),
+                0.0,
+                None,
+            )
+            .map_err(|e| err(e.to_string()))?;
+            let aspect = p.aspect_ratio().filter(|a| *a > 0.0 && a.is_finite());
+            Ok((camera, aspect))
+        }
+        gltf::camera::Projection::Orthographic(o) => {
+            // The specification forbids zero and discourages negative magnifications.
+            let (xmag, ymag) = (o.xmag().abs(), o.ymag().abs());
+            if !(xmag > 0.0 && xmag.is_finite() && ymag > 0.0 && ymag.is_finite()) {
+                return Err(err(format!(
+                    "orthographic xmag {} and ymag {} must be finite and non-zero",
+                    o.xmag(),
+                    o.ymag()
+                )));
+            }
+            // `up` is scaled by the node: its length must not scale the view.
+            let camera = Camera::orthographic(position, position + forward, up, 2.0 * ymag)
+                .map_err(|e| err(e.to_string()))?;
+            Ok((camera, Some(xmag / ymag)))
+        }
+    }
 }

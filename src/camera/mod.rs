@@ -1,4 +1,4 @@
-//! Look-at perspective camera with a thin lens for depth of field.
+//! Look-at perspective camera with a thin lens for depth of field, and an orthographic camera.
 //!
 //! ```toml
 //! [camera]
@@ -8,6 +8,18 @@
 //! fov = 40.0            # vertical field of view, degrees
 //! aperture = 0.05       # lens radius (0: pinhole)
 //! focus_distance = 8.0  # distance to the plane in focus (default: |look_at - position|)
+//! ```
+//!
+//! An orthographic camera sends parallel rays along the view direction from the plane through
+//! `position` perpendicular to it; the width it spans follows from the image's aspect ratio. It
+//! has no lens.
+//!
+//! ```toml
+//! [camera]
+//! type = "orthographic"
+//! position = [0.0, 0.0, 10.0]
+//! look_at = [0.0, 0.0, 0.0]
+//! height = 4.0          # world-space height the image spans
 //! ```
 //!
 //! # Precision, and its limit
@@ -54,6 +66,8 @@ pub struct Camera {
     fov_axis: FovAxis,
     lens: Lens,
     focus_distance: f64,
+    /// `Some(half height)` of the view in world units for an orthographic camera.
+    ortho_half_height: Option<f64>,
 }
 
 /// Which image axis the field of view spans; the other follows from the aspect ratio.
@@ -91,6 +105,9 @@ pub enum CameraError {
     /// Negative aperture or non-positive focus distance.
     #[error("aperture must be >= 0 and focus distance > 0")]
     BadLens,
+    /// An orthographic view height that is not a positive finite number.
+    #[error("orthographic view height {0} must be a positive finite number")]
+    BadHeight(f32),
 }
 
 impl Camera {
@@ -132,7 +149,29 @@ impl Camera {
             fov_axis: FovAxis::Vertical,
             lens,
             focus_distance: focus_distance as f64,
+            ortho_half_height: None,
         })
+    }
+
+    /// An orthographic camera at `position` looking at `look_at` whose image spans `height`
+    /// world units vertically (the width follows from the image's aspect ratio).
+    pub fn orthographic(
+        position: Vec3,
+        look_at: Vec3,
+        up: Vec3,
+        height: f32,
+    ) -> Result<Self, CameraError> {
+        if !(height > 0.0 && height.is_finite()) {
+            return Err(CameraError::BadHeight(height));
+        }
+        let mut c = Self::look_at(position, look_at, up, 90.0, 0.0, None)?;
+        c.ortho_half_height = Some(0.5 * height as f64);
+        Ok(c)
+    }
+
+    /// True for an orthographic camera.
+    pub fn is_orthographic(&self) -> bool {
+        self.ortho_half_height.is_some()
     }
 
     /// The same camera with its field of view measured along `axis`.
@@ -141,15 +180,20 @@ impl Camera {
         self
     }
 
-    /// The same camera with another lens (the focus distance is kept).
+    /// The same camera with another lens (the focus distance is kept). Orthographic cameras
+    /// ignore the lens.
     pub fn with_lens(mut self, lens: Lens) -> Self {
         self.lens = lens;
         self
     }
 
     /// `tan` of the half field of view along x and y for a `width x height` image.
+    /// For an orthographic camera: the half extents of the view in world units.
     fn tan_half_xy(&self, width: u32, height: u32) -> (f64, f64) {
         let aspect = width as f64 / height as f64;
+        if let Some(half) = self.ortho_half_height {
+            return (half * aspect, half);
+        }
         match self.fov_axis {
             FovAxis::Vertical => (self.tan_half_fov * aspect, self.tan_half_fov),
             FovAxis::Horizontal => (self.tan_half_fov, self.tan_half_fov / aspect),
@@ -171,17 +215,31 @@ impl Camera {
         self.forward.as_vec3()
     }
 
+    /// Unit up vector of the image, rounded to f32.
+    pub fn up(&self) -> Vec3 {
+        self.up.as_vec3()
+    }
+
+    /// Unit right vector of the image, rounded to f32.
+    pub fn right(&self) -> Vec3 {
+        self.right.as_vec3()
+    }
+
     /// True when the lens has a non-zero radius.
     pub fn has_depth_of_field(&self) -> bool {
-        !matches!(
-            self.lens,
-            Lens::Pinhole | Lens::Disk(0.0) | Lens::Square(0.0)
-        )
+        !self.is_orthographic()
+            && !matches!(
+                self.lens,
+                Lens::Pinhole | Lens::Disk(0.0) | Lens::Square(0.0)
+            )
     }
 
     /// The ray through film position `film` (pixels, `(0,0)` = top-left corner of the image,
     /// `(w,h)` = bottom-right) from lens sample `lens` in `[0,1)^2`.
     pub fn ray(&self, film: Vec2, width: u32, height: u32, lens: Vec2) -> Ray {
+        if self.is_orthographic() {
+            return self.centre_ray(film, width, height);
+        }
         let dir = self.pinhole_dir64(film, width, height);
         let d = match self.lens {
             Lens::Pinhole => return Ray::new(self.position, dir.as_vec3()),
@@ -197,7 +255,21 @@ impl Camera {
         Ray::new(origin, to_focus.as_vec3())
     }
 
-    /// Unit direction of the pinhole ray through a film position (see [`Camera::ray`]).
+    /// The ray through a film position ignoring the lens: from the eye (perspective) or from the
+    /// image plane (orthographic). The AOV layers trace it.
+    pub fn centre_ray(&self, film: Vec2, width: u32, height: u32) -> Ray {
+        if self.is_orthographic() {
+            let (hx, hy) = self.tan_half_xy(width, height);
+            let sx = (2.0 * film.x as f64 / width as f64 - 1.0) * hx;
+            let sy = (1.0 - 2.0 * film.y as f64 / height as f64) * hy;
+            let origin = self.position.as_dvec3() + self.right * sx + self.up * sy;
+            return Ray::new(origin.as_vec3(), self.forward.as_vec3());
+        }
+        Ray::new(self.position, self.pinhole_dir(film, width, height))
+    }
+
+    /// Unit direction of the pinhole ray through a film position (see [`Camera::ray`]); the
+    /// view direction for an orthographic camera.
     /// Formed in f64 and rounded once, so it is the f32 direction nearest to the exact one.
     pub fn pinhole_dir(&self, film: Vec2, width: u32, height: u32) -> Vec3 {
         self.pinhole_dir64(film, width, height).as_vec3()
@@ -205,6 +277,9 @@ impl Camera {
 
     /// The camera-space direction `(sx, sy, 1)` taken to world space and normalised, in f64.
     fn pinhole_dir64(&self, film: Vec2, width: u32, height: u32) -> DVec3 {
+        if self.is_orthographic() {
+            return self.forward;
+        }
         let (tx, ty) = self.tan_half_xy(width, height);
         let sx = (2.0 * film.x as f64 / width as f64 - 1.0) * tx;
         let sy = (1.0 - 2.0 * film.y as f64 / height as f64) * ty;
@@ -230,10 +305,20 @@ impl Camera {
 
     /// OpenEXR `worldToNDC`: world to normalised device coordinates after the homogeneous divide,
     /// `(0,0)` the top-left and `(1,1)` the bottom-right corner of the display window, `z` the
-    /// reciprocal of the camera-space depth. Column-vector form.
+    /// reciprocal of the camera-space depth (orthographic: the depth itself, no divide).
+    /// Column-vector form.
     pub fn world_to_ndc(&self, width: u32, height: u32) -> Mat4 {
         let (tx, ty) = self.tan_half_xy(width, height);
         let (sx, sy) = (1.0 / tx, 1.0 / ty);
+        if self.is_orthographic() {
+            let cam_to_ndc = DMat4::from_cols(
+                DVec4::new(0.5 * sx, 0.0, 0.0, 0.0),
+                DVec4::new(0.0, -0.5 * sy, 0.0, 0.0),
+                DVec4::new(0.0, 0.0, 1.0, 0.0),
+                DVec4::new(0.5, 0.5, 0.0, 1.0),
+            );
+            return (cam_to_ndc * self.world_to_camera64()).as_mat4();
+        }
         // Camera (x, y, z) -> clip (x', y', z', w) with ndc = clip.xyz / z.
         let cam_to_ndc = DMat4::from_cols(
             DVec4::new(0.5 * sx, 0.0, 0.0, 0.0),
@@ -263,69 +348,4 @@ fn concentric_disk(u: Vec2) -> Vec2 {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn cam() -> Camera {
-        Camera::look_at(
-            Vec3::new(1.0, 2.0, 5.0),
-            Vec3::new(0.0, 0.5, 0.0),
-            Vec3::Y,
-            50.0,
-            0.0,
-            None,
-        )
-        .unwrap()
-    }
-
-    #[test]
-    fn world_to_ndc_maps_a_ray_point_back_to_its_pixel() {
-        let c = cam();
-        let (w, h) = (64, 48);
-        let m = c.world_to_ndc(w, h);
-        for film in [
-            Vec2::new(10.5, 7.5),
-            Vec2::new(60.25, 40.75),
-            Vec2::new(32.0, 24.0),
-        ] {
-            let p = c.ray(film, w, h, Vec2::ZERO).at(3.7);
-            let q = m * p.extend(1.0);
-            let ndc = q.truncate() / q.w;
-            assert!(
-                (ndc.x * w as f32 - film.x).abs() < 1e-3,
-                "{ndc:?} vs {film:?}"
-            );
-            assert!(
-                (ndc.y * h as f32 - film.y).abs() < 1e-3,
-                "{ndc:?} vs {film:?}"
-            );
-        }
-    }
-
-    #[test]
-    fn thin_lens_rays_converge_on_the_focus_plane() {
-        let c = Camera::look_at(Vec3::ZERO, -Vec3::Z, Vec3::Y, 40.0, 0.5, Some(4.0)).unwrap();
-        let film = Vec2::new(20.0, 10.0);
-        let a = c.ray(film, 64, 32, Vec2::new(0.1, 0.9));
-        let b = c.ray(film, 64, 32, Vec2::new(0.8, 0.3));
-        let pa = a.at((4.0 - 0.0) / -a.dir.z);
-        let pb = b.at(4.0 / -b.dir.z);
-        assert!((pa - pb).length() < 1e-4, "{pa} vs {pb}");
-    }
-
-    #[test]
-    fn rejects_degenerate_setups() {
-        assert_eq!(
-            Camera::look_at(Vec3::ONE, Vec3::ONE, Vec3::Y, 40.0, 0.0, None),
-            Err(CameraError::NoViewDirection)
-        );
-        assert_eq!(
-            Camera::look_at(Vec3::ZERO, Vec3::Y, Vec3::Y, 40.0, 0.0, None),
-            Err(CameraError::UpParallel)
-        );
-        assert_eq!(
-            Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 180.0, 0.0, None),
-            Err(CameraError::BadFov(180.0))
-        );
-    }
-}
+mod tests;

@@ -1,5 +1,5 @@
 """glTF material, texture and attribute test assets (assets/gltf/materials/), written by
-tools/gen_gltf_assets.py; tests/gltf_materials.rs asserts their pixels, so change both together.
+gen_gltf_assets.py (`python3 tools/gen_gltf_assets.py`); tests/gltf_materials.rs asserts their pixels, so change both together.
 
 Every file is one or more quads in the plane z = 0 spanning [-1, 1]^2 (facing +Z, TEXCOORD_0
 (0, 0) at the top-left corner x = -1, y = 1), lit by one directional light of intensity 0 (so the
@@ -93,7 +93,8 @@ def texture(doc, img, mag=LINEAR, wrap=(REPEAT, REPEAT)):
 def dark_light(doc, direction_light=None):
     """One directional light: intensity 0 unless `direction_light` gives a quaternion."""
     doc.j.setdefault("extensionsUsed", []).append("KHR_lights_punctual")
-    intensity = 0 if direction_light is None else 3
+    # 2049 lux: irradiance 3 after lumis's 683 lm/W.
+    intensity = 0 if direction_light is None else 2049
     doc.j["extensions"] = {"KHR_lights_punctual": {"lights": [
         {"type": "directional", "intensity": intensity}]}}
     kw = {} if direction_light is None else {"rotation": direction_light}
@@ -267,7 +268,7 @@ def generate(Doc, write_json, out):
     d.node(mesh=d.mesh([quad(d, m), quad(d, wall, pos=wall_pos)]), name="masked")
     d.j["extensionsUsed"] = ["KHR_lights_punctual"]
     d.j["extensions"] = {"KHR_lights_punctual": {"lights": [
-        {"type": "directional", "intensity": 3}]}}
+        {"type": "directional", "intensity": 2049}]}}
     d.node(name="light", extensions={"KHR_lights_punctual": {"light": 0}})
     written(d, "alpha_mask")
 
