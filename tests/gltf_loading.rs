@@ -177,13 +177,27 @@ fn textured_quad_loads_uvs_and_applies_its_base_colour_texture() {
     assert_eq!(m.uvs().unwrap()[1], lumis::math::Vec2::new(1.0, 1.0));
     assert!(s.warnings().is_empty(), "{:?}", s.warnings());
     // checker.png is 2x2: sRGB 230 on the diagonal from the top-left, 20 elsewhere.
-    let diffuse = &s.material_of(0).diffuse;
-    let Texture::Image { image, tint } = diffuse else {
-        panic!("expected an image texture, got {diffuse:?}")
-    };
-    assert_eq!((image.width(), image.height(), *tint), (2, 2, Vec3::ONE));
+    let material = s.material_of(0);
+    let image = &material
+        .textured
+        .as_ref()
+        .unwrap()
+        .base_texture
+        .as_ref()
+        .unwrap()
+        .image;
+    assert_eq!((image.width(), image.height()), (2, 2));
     let (light, dark) = (srgb_to_linear(230.0 / 255.0), srgb_to_linear(20.0 / 255.0));
-    let at = |u: f32, v: f32| diffuse.eval(Vec3::ZERO, lumis::math::Vec2::new(u, v)).x;
+    let at = |u: f32, v: f32| {
+        let uv = lumis::math::Vec2::new(u, v);
+        let attrs = lumis::geometry::HitAttributes {
+            uvs: [uv; 2],
+            color: lumis::math::Vec4::ONE,
+            tangent: None,
+        };
+        let hit = material.at_hit(&attrs, Vec3::Z, Vec3::Z).unwrap();
+        hit.material.diffuse.eval(Vec3::ZERO, uv).x
+    };
     assert!((at(0.25, 0.25) - light).abs() < 1e-6 && (at(0.75, 0.75) - light).abs() < 1e-6);
     assert!((at(0.75, 0.25) - dark).abs() < 1e-6 && (at(0.25, 0.75) - dark).abs() < 1e-6);
 }

@@ -178,9 +178,17 @@ impl Analysis {
         ));
         let textures = feature(
             "are textured",
-            count(&|m| !matches!(m.diffuse, Texture::Solid(_))),
+            count(&|m| !matches!(m.diffuse, Texture::Solid(_)) || m.textured.is_some()),
         );
-        let normal_maps = feature("have a normal map", count(&|m| m.normal_map.is_some()));
+        let normal_maps = feature(
+            "have a normal map",
+            count(&|m| {
+                m.normal_map.is_some()
+                    || m.textured
+                        .as_ref()
+                        .is_some_and(|t| t.normal_texture.is_some())
+            }),
+        );
         let emission = forced(feature(
             "emit",
             count(&|m| m.emission != crate::math::Vec3::ZERO),

@@ -1,5 +1,7 @@
-//! Indexed triangle meshes: a shared vertex buffer with optional per-vertex normals and UVs.
+//! Indexed triangle meshes: a shared vertex buffer with optional per-vertex normals and UVs,
+//! and the glTF extras of [`MeshAttributes`] (second UV set, colours, tangents, alpha test).
 
+use super::mesh_attributes::{HitAttributes, MeshAttributes, SharedAlphaTest};
 use crate::math::{Aabb, Mat4, Vec2, Vec3};
 
 /// Why a mesh could not be built.
@@ -31,6 +33,9 @@ pub struct Mesh {
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
     indices: Vec<[u32; 3]>,
+    /// Boxed: most meshes have none, and a `Mesh` is copied into every scene's list.
+    extra: Option<Box<MeshAttributes>>,
+    alpha: Option<SharedAlphaTest>,
 }
 
 impl Mesh {
@@ -46,6 +51,7 @@ impl Mesh {
                 .uvs
                 .as_ref()
                 .map_or(0, |u| std::mem::size_of_val(u.as_slice()))
+            + self.extra.as_ref().map_or(0, |e| e.bytes())
     }
 
     /// Builds a mesh, checking that every index is in range, every position is finite and
@@ -83,7 +89,69 @@ impl Mesh {
             normals,
             uvs,
             indices,
+            extra: None,
+            alpha: None,
         })
+    }
+
+    /// This mesh with the extra attributes `extra`, checking that every per-vertex array has
+    /// one entry per vertex and the tangents one per triangle.
+    pub fn with_attributes(mut self, extra: MeshAttributes) -> Result<Self, MeshError> {
+        let n = self.positions.len();
+        let check = |what, got: Option<usize>, expected: usize| match got {
+            Some(got) if got != expected => Err(MeshError::AttributeCount {
+                what,
+                got,
+                expected,
+            }),
+            _ => Ok(()),
+        };
+        check("TEXCOORD_1", extra.uv1.as_ref().map(Vec::len), n)?;
+        check("colour", extra.colors.as_ref().map(Vec::len), n)?;
+        check(
+            "tangent (per triangle)",
+            extra.tangents.as_ref().map(Vec::len),
+            self.indices.len(),
+        )?;
+        self.extra = (extra != MeshAttributes::default()).then(|| Box::new(extra));
+        Ok(self)
+    }
+
+    /// The extra attributes, if any.
+    pub fn attributes(&self) -> Option<&MeshAttributes> {
+        self.extra.as_deref()
+    }
+
+    /// Sets the alpha test intersection applies to this mesh's triangles.
+    pub fn set_alpha_test(&mut self, alpha: Option<SharedAlphaTest>) {
+        self.alpha = alpha;
+    }
+
+    /// The alpha test, if the mesh has one.
+    pub fn alpha_test(&self) -> Option<&SharedAlphaTest> {
+        self.alpha.as_ref()
+    }
+
+    /// Every attribute at barycentrics `(u, v)` of triangle `tri`.
+    pub fn hit_attributes(&self, tri: u32, u: f32, v: f32) -> HitAttributes {
+        let uv0 = self.uv(tri, u, v);
+        match &self.extra {
+            Some(e) => e.at(tri, self.indices[tri as usize], u, v, uv0),
+            None => HitAttributes {
+                uvs: [uv0; 2],
+                color: crate::math::Vec4::ONE,
+                tangent: None,
+            },
+        }
+    }
+
+    /// False when the mesh's alpha test cuts the point `(u, v)` of triangle `tri` away.
+    #[inline]
+    pub fn alpha_passes(&self, tri: u32, u: f32, v: f32) -> bool {
+        match &self.alpha {
+            None => true,
+            Some(a) => a.passes(&self.hit_attributes(tri, u, v)),
+        }
     }
 
     /// Number of triangles.
@@ -163,7 +231,11 @@ impl Mesh {
                 *n = normal_m.transform_vector3(*n).normalize_or_zero();
             }
         }
-        if m.determinant() < 0.0 {
+        let swap = m.determinant() < 0.0;
+        if let Some(e) = &mut self.extra {
+            e.transform(m, swap);
+        }
+        if swap {
             for idx in &mut self.indices {
                 idx.swap(1, 2);
             }

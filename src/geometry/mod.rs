@@ -7,6 +7,7 @@ mod accuracy;
 mod conditioning;
 mod exact;
 mod mesh;
+mod mesh_attributes;
 mod packed;
 mod polygon;
 mod sphere;
@@ -17,6 +18,7 @@ mod twofloat;
 pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsilon};
 pub use exact::{cross_sign, orient2d, triangle_area_is_zero};
 pub use mesh::{Mesh, MeshError};
+pub use mesh_attributes::{AlphaTest, HitAttributes, MeshAttributes, SharedAlphaTest};
 pub use packed::PackedLeaves;
 pub(crate) use packed::PackedWatertight;
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
@@ -82,6 +84,8 @@ pub struct Geometry {
     spheres: Vec<Sphere>,
     meshes: Vec<Mesh>,
     prims: Vec<Primitive>,
+    /// Some mesh has an alpha test: lets intersection skip the look-up otherwise.
+    any_alpha: bool,
 }
 
 impl Geometry {
@@ -105,6 +109,7 @@ impl Geometry {
         let first = self.prims.len() as u32;
         self.prims
             .extend((0..m.triangle_count() as u32).map(|tri| Primitive::Triangle { mesh, tri }));
+        self.any_alpha |= m.alpha_test().is_some();
         self.meshes.push(m);
         first..self.prims.len() as u32
     }
@@ -197,8 +202,41 @@ impl Geometry {
                 sphere(&self.spheres[i as usize]).map(|t| PrimHit { t, u: 0.0, v: 0.0 })
             }
             Primitive::Triangle { mesh, tri } => {
-                triangle(self.meshes[mesh as usize].corners(tri)).map(PrimHit::from)
+                let m = &self.meshes[mesh as usize];
+                // The alpha test is part of the one per-primitive test every accelerator
+                // shares, so a cut-out hole is the same hole for all of them.
+                triangle(m.corners(tri))
+                    .filter(|h| !self.any_alpha || m.alpha_passes(tri, h.u, h.v))
+                    .map(PrimHit::from)
             }
+        }
+    }
+
+    /// False when primitive `index`'s alpha test cuts the triangle point `(u, v)` away (the
+    /// packed leaves' exact test applies it after the same triangle test).
+    #[inline(always)]
+    pub(crate) fn alpha_passes(&self, index: u32, u: f32, v: f32) -> bool {
+        if !self.any_alpha {
+            return true;
+        }
+        match self.prims[index as usize] {
+            Primitive::Triangle { mesh, tri } => self.meshes[mesh as usize].alpha_passes(tri, u, v),
+            Primitive::Sphere { .. } => true,
+        }
+    }
+
+    /// The attributes of a hit on primitive `index` whose surface is `s` (a sphere's are its
+    /// `uv` in both sets, colour 1 and no tangent).
+    pub fn hit_attributes(&self, index: u32, s: &SurfacePoint) -> HitAttributes {
+        match self.prims[index as usize] {
+            Primitive::Triangle { mesh, tri } => {
+                self.meshes[mesh as usize].hit_attributes(tri, s.bary.x, s.bary.y)
+            }
+            Primitive::Sphere { .. } => HitAttributes {
+                uvs: [s.uv; 2],
+                color: crate::math::Vec4::ONE,
+                tangent: None,
+            },
         }
     }
 
@@ -259,6 +297,7 @@ impl Geometry {
                     ng: n,
                     ns: n,
                     uv: Vec2::new(u, v),
+                    bary: Vec2::ZERO,
                     p_error,
                 }
             }
@@ -287,6 +326,7 @@ impl Geometry {
                     } else {
                         Vec2::ZERO
                     },
+                    bary: Vec2::new(hit.u, hit.v),
                     p_error,
                 }
             }

@@ -194,7 +194,11 @@ impl<'a> PackedWatertight<'a> {
             return self.geometry.intersect(prim, ray, &self.wr);
         }
         let p = |k: usize| Vec3::new(v[3 * k][lane], v[3 * k + 1][lane], v[3 * k + 2][lane]);
-        intersect_triangle(ray, &self.wr, p(0), p(1), p(2)).map(Into::into)
+        // A triangle that passes the exact test must pass its mesh's alpha test too, as in
+        // `Geometry::intersect`.
+        intersect_triangle(ray, &self.wr, p(0), p(1), p(2))
+            .filter(|h| self.geometry.alpha_passes(prim, h.u, h.v))
+            .map(Into::into)
     }
 
     /// Calls `f(group, lane, prim)` for each lane of the leaf the filter keeps, until it says stop.

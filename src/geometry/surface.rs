@@ -16,6 +16,9 @@ pub struct SurfacePoint {
     pub ns: Vec3,
     /// Texture coordinates.
     pub uv: Vec2,
+    /// Barycentric weights of a triangle's second and third vertex (0 for spheres), for the
+    /// attributes beyond `uv` (see [`super::Geometry::hit_attributes`]).
+    pub bary: Vec2,
     /// Per-component bound on the absolute error of `p` (pbrt's `pError`): how far the computed
     /// point may lie from a point of the true surface, for offsetting secondary rays.
     pub p_error: Vec3,
@@ -95,6 +98,7 @@ mod tests {
             ng: Vec3::Y,
             ns: Vec3::Y,
             uv: Vec2::ZERO,
+            bary: Vec2::ZERO,
             p_error: Vec3::new(0.03, 0.0, 0.03),
         };
         let up = s.spawn_origin(Vec3::new(0.3, 1.0, 0.0), Offset::ErrorBound);

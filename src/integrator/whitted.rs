@@ -132,17 +132,30 @@ impl<'a> Whitted<'a> {
         counts: &mut RayCounts,
     ) -> Vec3 {
         let index = self.scene.objects()[hit.object as usize].material;
+        let s = &hit.surface;
+        let base = &self.scene.materials()[index as usize];
+        // A textured material becomes the constant material that holds at this hit; the
+        // traits stay the base material's, which bound every hit's.
+        let at_hit = base.textured.as_ref().and_then(|_| {
+            base.at_hit(
+                &self.scene.geometry().hit_attributes(hit.prim, s),
+                s.ns,
+                s.ng,
+            )
+        });
+        let (m, occlusion, ns) = match &at_hit {
+            Some(a) => (&a.material, a.occlusion, a.ns),
+            None => (base, 1.0, s.ns),
+        };
         let sh = Shading {
-            m: &self.scene.materials()[index as usize],
+            m,
             traits: self.analysis.material(index),
         };
-        let m = sh.m;
-        let s = &hit.surface;
         let wo = -ray.dir.normalize();
         // Shade the side the ray arrived on; `entering` tells refraction which way it goes.
         let entering = ray.dir.dot(s.ng) < 0.0;
         // Bump before choosing the side, so both sides of a surface see the same bumps.
-        let ns = m.shading_normal(s.ns, s.ng, s.p);
+        let ns = m.shading_normal(ns, s.ng, s.p);
         let (ng, ns) = if entering { (s.ng, ns) } else { (-s.ng, -ns) };
         let kd = m.diffuse.eval(s.p, s.uv);
         // Starting from +0 keeps every sum identical whether or not a zero term is added.
@@ -150,7 +163,7 @@ impl<'a> Whitted<'a> {
         if ALL || sh.traits.emits {
             l += m.emission;
         }
-        l += self.scene.settings().ambient * kd;
+        l += self.scene.settings().ambient * kd * occlusion;
         l += self.direct::<ALL>(&sh, kd, s, ng, ns, wo, counts);
         if depth >= self.max_depth {
             return l;

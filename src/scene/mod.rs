@@ -227,7 +227,7 @@ impl Scene {
         let object = self.object_of(prim);
         // Texture coordinates only where a texture reads them (a sphere's cost two inverse
         // trigonometric calls); elsewhere they stay 0, which nothing reads.
-        let uv = self.material_of(object).diffuse.reads_uv();
+        let uv = self.material_of(object).reads_uv();
         Some(Interaction {
             t: hit.t,
             prim,

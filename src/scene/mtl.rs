@@ -98,6 +98,7 @@ impl<'a> MtlConverter<'a> {
             ior,
             emission,
             normal_map: None,
+            textured: None,
         }
     }
 

@@ -200,6 +200,7 @@ impl Loader<'_> {
                 .emission
                 .map_or(Ok(d.emission), |c| self.color(e, "emission", c))?,
             normal_map: None,
+            textured: None,
         };
         self.finite(e, "shininess", &[material.shininess])?;
         if material.shininess < 0.0 {

@@ -1,5 +1,6 @@
 //! Surface colours: procedural patterns and normal perturbation for the paper's `.scn`
-//! materials, and image textures (see [`ImageTexture`]) for OBJ/MTL `map_Kd`.
+//! materials, image textures (see [`ImageTexture`]) for OBJ/MTL `map_Kd`, and glTF's sampled
+//! textures ([`TextureRef`]).
 //!
 //! Every procedural pattern is a function of the world-space hit point `p` (solid texturing, like
 //! the original ray tracer), so spheres and triangles need no texture coordinates; only
@@ -17,9 +18,11 @@
 mod image;
 mod normal_map;
 pub mod perlin;
+mod sampled;
 
 pub use image::{ImageTexture, ImageTextureError, srgb_to_linear};
 pub use normal_map::NormalMap;
+pub use sampled::{Encoding, Sampler, Texels, TextureRef, UvTransform, Wrap};
 
 use std::sync::Arc;
 

@@ -433,6 +433,9 @@ def main():
     materials()
     bad()
     phase8()
+    # Materials, textures and attributes: gltf_material_assets.py.
+    from . import gltf_material_assets
+    gltf_material_assets.generate(Doc, write_json, os.path.join(OUT, "materials"))
 
 
 def cli():

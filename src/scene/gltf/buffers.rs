@@ -19,6 +19,8 @@ pub(super) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
+    "KHR_mesh_quantization",
+    "KHR_texture_transform",
 ];
 
 /// Parses a .gltf (JSON) or .glb file, refuses unsupported required extensions, and validates
@@ -75,7 +77,15 @@ pub(super) fn parse(
             ));
         }
     }
-    let json = document.into_json();
+    let mut json = document.into_json();
+    // Extensions lumis reads itself, which the crate's validation would refuse as unknown
+    // when required (they were checked above).
+    json.extensions_required.retain(|e| {
+        !matches!(
+            e.as_str(),
+            "KHR_mesh_quantization" | "KHR_texture_transform"
+        )
+    });
     // gltf-json's validation indexes the POSITION accessor before checking that it exists.
     let accessors = json.accessors.len();
     for (m, mesh) in json.meshes.iter().enumerate() {

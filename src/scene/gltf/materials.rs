@@ -1,60 +1,110 @@
-//! glTF metallic-roughness materials to lumis's Whitted materials. The rules (documented with
-//! their reasons in `docs/gltf.md`), with base colour `c`, metallic `m`, roughness `r`,
-//! transmission `t` and smoothness `s = (1 - r)^2`:
+//! glTF metallic-roughness materials to lumis's Whitted materials. Constant factors map by
+//! [`metal_rough`] (documented with its reasons in `docs/gltf.md`); a material with textures
+//! (or used by a mesh with vertex colours) keeps its factors and texture references in
+//! [`TexturedParams`], evaluated by the same rule at every hit, and its [`Material`] fields
+//! hold bounds over all hits, which the effect decisions read. Further rules:
 //!
-//! - mirror `reflectivity = m * s` (Whitted has no glossy lobe: only smooth metal mirrors);
-//! - diffuse `kd = c * (1 - m * s) * (1 - t)` (a rough metal's broad lobe, lit by point lights,
-//!   looks diffuse, so it keeps its colour instead of going black);
-//! - Phong `ks = lerp(0.04, c, m)`, exponent `n = 2 / alpha^2 - 2` with `alpha = r^2`, at most
-//!   10 000 (the Blinn-Phong exponent with the GGX lobe's width; 0 for `r = 1`: no highlight);
-//! - `emission = emissiveFactor * emissive_strength`;
+//! - `emission = emissiveFactor * emissive_strength` (times the emissive texture);
 //! - `transmission = t`, `ior` from `KHR_materials_ior` (default 1.5);
 //! - `alphaMode` BLEND without transmission: `transmission = 1 - alpha`, `ior = 1` (a straight
-//!   see-through); MASK: opaque when `alpha >= alphaCutoff`, else fully see-through.
+//!   see-through, with a warning); MASK: an alpha test during intersection (see
+//!   [`crate::geometry::AlphaTest`]), the surface opaque where it passes;
+//! - `KHR_materials_specular` scales the dielectric F0 (0.04) by `specularFactor *
+//!   specularColorFactor`; `KHR_materials_clearcoat` adds a mirror of weight
+//!   `clearcoatFactor * 0.04 * (1 - clearcoatRoughness)^2`;
+//! - everything else (sheen, volume, unlit, their textures, unknown extensions) is ignored with
+//!   a warning naming it and the material.
 
-use std::path::Path;
+use std::sync::Arc;
 
-use super::Resolver;
-use super::buffers::{UriError, read_uri, resolve_uri};
-use crate::material::{Material, Texture};
-use crate::math::Vec3;
-use crate::texture::ImageTexture;
+use serde_json::Value;
 
-/// Largest Phong exponent a perfectly smooth surface gets.
-const MAX_SHININESS: f32 = 10_000.0;
+use super::textures::{Images, Slot, reference};
+use crate::geometry::AlphaTest;
+use crate::material::{Material, Texture, TexturedParams, metal_rough, textured_bounds};
+use crate::math::{Vec3, Vec4};
+use crate::texture::Encoding;
 
 /// Reflectance of a dielectric at normal incidence (ior 1.5), glTF's fixed F0.
 const DIELECTRIC_F0: f32 = 0.04;
 
-/// A converted material and what it could not apply yet.
+/// A converted material.
 pub(super) struct Converted {
     /// The lumis material.
     pub material: Material,
-    /// Index of the base colour texture's image; the loader decodes it and multiplies it
-    /// into `diffuse` (which holds the factor meanwhile).
-    pub base_color_image: Option<usize>,
+    /// Its parameters for per-hit evaluation (also when `material` has none: a mesh with
+    /// vertex colours gets a variant that has them).
+    pub params: TexturedParams,
+    /// `alphaMode` MASK: the test its meshes' triangles get.
+    pub alpha: Option<Arc<AlphaTest>>,
+    /// It has a normal texture, so its meshes need tangents.
+    pub needs_tangents: bool,
     /// The material as errors and warnings name it, e.g. `materials[2] "brass"`.
     pub element: String,
 }
 
-/// Converts material `m` of the glTF file `origin`; warnings name the file and the material.
-pub(super) fn convert(m: &gltf::Material, origin: &Path, warnings: &mut Vec<String>) -> Converted {
+impl Converted {
+    /// The material for a mesh with vertex colours, which always varies over the surface.
+    pub fn with_vertex_colors(&self) -> Material {
+        textured_bounds(&self.material, Arc::new(self.params.clone()))
+    }
+
+    /// What meshes without a material get: lumis's grey rather than glTF's default
+    /// (metallic 1, roughness 1), which a Whitted renderer without environment light would
+    /// show almost black; with vertex colours, white dielectric times the colours.
+    pub fn default_material() -> Self {
+        let params = TexturedParams {
+            base_color: Vec4::ONE,
+            base_texture: None,
+            metallic: 0.0,
+            roughness: 1.0,
+            metal_rough_texture: None,
+            f0: Vec3::splat(DIELECTRIC_F0),
+            clearcoat: 0.0,
+            transmission: 0.0,
+            blend: false,
+            emission: Vec3::ZERO,
+            emissive_texture: None,
+            normal_texture: None,
+            occlusion_texture: None,
+        };
+        Self {
+            material: Material::default(),
+            params,
+            alpha: None,
+            needs_tangents: false,
+            element: "default material".into(),
+        }
+    }
+}
+
+/// Converts material `m`; warnings name `origin` and the material.
+pub(super) fn convert(
+    m: &gltf::Material,
+    images: &mut Images,
+    warnings: &mut Vec<String>,
+) -> Converted {
     let element = match (m.index(), m.name()) {
         (Some(i), Some(n)) => format!("materials[{i}] \"{n}\""),
         (Some(i), None) => format!("materials[{i}]"),
         (None, _) => "default material".into(),
     };
-    let mut warn = |msg: String| warnings.push(format!("{}: {element}: {msg}", origin.display()));
+    let origin = images.origin.display().to_string();
+    let mut warn = |msg: String| warnings.push(format!("{origin}: {element}: {msg}"));
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, alpha] = pbr.base_color_factor().map(unit);
-    let base = Vec3::new(r, g, b);
-    let metallic = unit(pbr.metallic_factor());
-    let roughness = unit(pbr.roughness_factor());
-    let smooth = (1.0 - roughness) * (1.0 - roughness);
+    let base_color = Vec4::new(r, g, b, alpha);
 
-    let mut transmission = m
+    let transmission = m
         .transmission()
         .map_or(0.0, |t| unit(t.transmission_factor()));
+    if let Some(t) = m.transmission().and_then(|t| t.transmission_texture()) {
+        let i = t.texture().index();
+        warn(format!(
+            "KHR_materials_transmission transmissionTexture (textures[{i}]) is not used; \
+             the factor applies everywhere"
+        ));
+    }
     let mut ior = match m.ior() {
         Some(ior) if ior >= 1.0 && ior.is_finite() => ior,
         Some(ior) => {
@@ -63,102 +113,257 @@ pub(super) fn convert(m: &gltf::Material, origin: &Path, warnings: &mut Vec<Stri
         }
         None => 1.5,
     };
-    let alpha_factor = match m.alpha_mode() {
-        gltf::material::AlphaMode::Opaque => 1.0,
-        gltf::material::AlphaMode::Mask => {
-            if alpha >= m.alpha_cutoff().unwrap_or(0.5) {
-                1.0
-            } else {
-                0.0
-            }
+    let mut blend = false;
+    let mut alpha_test = None;
+    match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => {}
+        gltf::material::AlphaMode::Mask => alpha_test = Some(m.alpha_cutoff().unwrap_or(0.5)),
+        gltf::material::AlphaMode::Blend if transmission == 0.0 => {
+            blend = true;
+            // Index 1: the blended surface lets light straight through without bending it.
+            ior = 1.0;
+            warn(
+                "alphaMode BLEND is approximated as transmission 1 - alpha with ior 1 (no \
+                 sorting or compositing in a ray tracer)"
+                    .into(),
+            );
         }
-        gltf::material::AlphaMode::Blend => alpha,
-    };
-    if alpha_factor < 1.0 && transmission == 0.0 {
-        transmission = 1.0 - alpha_factor;
-        // Index 1: the blended surface lets light straight through without bending it.
-        ior = 1.0;
+        gltf::material::AlphaMode::Blend => warn(
+            "alphaMode BLEND is ignored: KHR_materials_transmission gives the see-through".into(),
+        ),
     }
 
-    let alpha2 = (roughness * roughness)
-        .powi(2)
-        .max(2.0 / (MAX_SHININESS + 2.0));
-    let shininess = (2.0 / alpha2 - 2.0).clamp(0.0, MAX_SHININESS);
     let strength = m.emissive_strength().filter(|s| *s >= 0.0).unwrap_or(1.0);
-    let emission = Vec3::from(m.emissive_factor()).max(Vec3::ZERO) * strength;
-
-    let base_color_image = pbr.base_color_texture().map(|info| {
-        if info.tex_coord() != 0 {
-            warn(format!(
-                "base colour texture uses TEXCOORD_{}; lumis reads TEXCOORD_0 only",
-                info.tex_coord()
-            ));
-        }
-        info.texture().source().index()
-    });
+    let mut emission = Vec3::from(m.emissive_factor()).max(Vec3::ZERO) * strength;
     if !emission.is_finite() {
         warn("emission is not finite; set to 0".into());
+        emission = Vec3::ZERO;
     }
-    Converted {
-        material: Material {
-            diffuse: Texture::Solid(base * (1.0 - metallic * smooth) * (1.0 - transmission)),
-            specular: Vec3::splat(DIELECTRIC_F0).lerp(base, metallic),
-            shininess,
-            reflectivity: metallic * smooth,
-            transmission,
-            ior,
-            emission: if emission.is_finite() {
-                emission
-            } else {
-                Vec3::ZERO
+
+    let transform = |ext: Option<&Value>| ext.cloned();
+    let mut slot = |name, tex: gltf::Texture, tex_coord, ext: Option<Value>, encoding| {
+        reference(
+            images,
+            Slot {
+                name,
+                texture: tex,
+                tex_coord,
+                transform: ext.as_ref(),
+                encoding,
             },
-            normal_map: None,
-        },
-        base_color_image,
+            &mut warn,
+        )
+    };
+    let base_texture = pbr.base_color_texture().and_then(|i| {
+        let ext = transform(i.extension_value("KHR_texture_transform"));
+        slot(
+            "baseColorTexture",
+            i.texture(),
+            i.tex_coord(),
+            ext,
+            Encoding::Srgb,
+        )
+    });
+    let metal_rough_texture = pbr.metallic_roughness_texture().and_then(|i| {
+        let ext = transform(i.extension_value("KHR_texture_transform"));
+        slot(
+            "metallicRoughnessTexture",
+            i.texture(),
+            i.tex_coord(),
+            ext,
+            Encoding::Linear,
+        )
+    });
+    let emissive_texture = m.emissive_texture().and_then(|i| {
+        let ext = transform(i.extension_value("KHR_texture_transform"));
+        slot(
+            "emissiveTexture",
+            i.texture(),
+            i.tex_coord(),
+            ext,
+            Encoding::Srgb,
+        )
+    });
+    let normal_texture = m.normal_texture().and_then(|i| {
+        let ext = transform(i.extension_value("KHR_texture_transform"));
+        let scale = if i.scale().is_finite() {
+            i.scale()
+        } else {
+            1.0
+        };
+        slot(
+            "normalTexture",
+            i.texture(),
+            i.tex_coord(),
+            ext,
+            Encoding::Linear,
+        )
+        .map(|t| (t, scale))
+    });
+    let occlusion_texture = m.occlusion_texture().and_then(|i| {
+        let ext = transform(i.extension_value("KHR_texture_transform"));
+        let strength = unit(i.strength());
+        slot(
+            "occlusionTexture",
+            i.texture(),
+            i.tex_coord(),
+            ext,
+            Encoding::Linear,
+        )
+        .map(|t| (t, strength))
+    });
+
+    let (f0, clearcoat) = extensions(m, &mut warn);
+    let params = TexturedParams {
+        base_color,
+        base_texture,
+        metallic: unit(pbr.metallic_factor()),
+        roughness: unit(pbr.roughness_factor()),
+        metal_rough_texture,
+        f0,
+        clearcoat,
+        transmission,
+        blend,
+        emission,
+        emissive_texture,
+        normal_texture,
+        occlusion_texture,
+    };
+    let alpha = alpha_test.map(|cutoff| {
+        Arc::new(AlphaTest {
+            factor: alpha,
+            texture: params.base_texture.clone(),
+            cutoff,
+        })
+    });
+    let constant = params.base_texture.is_none()
+        && params.metal_rough_texture.is_none()
+        && params.emissive_texture.is_none()
+        && params.normal_texture.is_none()
+        && params.occlusion_texture.is_none();
+    let mut material = Material {
+        ior,
+        ..Material::default()
+    };
+    let material = if constant {
+        let t = if blend {
+            1.0 - base_color.w
+        } else {
+            transmission
+        };
+        let mr = metal_rough(
+            base_color.truncate(),
+            params.metallic,
+            params.roughness,
+            t,
+            f0,
+        );
+        material.diffuse = Texture::Solid(mr.kd);
+        material.specular = mr.ks;
+        material.shininess = mr.shininess;
+        material.reflectivity = (mr.reflectivity + clearcoat).min(1.0);
+        material.transmission = t;
+        material.emission = emission;
+        material
+    } else {
+        material.emission = emission;
+        textured_bounds(&material, Arc::new(params.clone()))
+    };
+    Converted {
+        material,
+        needs_tangents: params.normal_texture.is_some(),
+        params,
+        alpha,
         element,
     }
+}
+
+/// Extensions lumis reads somewhere (the rest of `extensionsUsed` is warned of; material
+/// extensions also get a warning on each material that has them).
+const KNOWN: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    "KHR_materials_clearcoat",
+    "KHR_texture_transform",
+    "KHR_mesh_quantization",
+];
+
+/// Warnings naming every entry of `extensionsUsed` lumis does not read, but material ones,
+/// which [`convert`] names on each material.
+pub(super) fn unused_extensions(doc: &gltf::Document, origin: &std::path::Path) -> Vec<String> {
+    doc.extensions_used()
+        .filter(|e| !KNOWN.contains(e) && !e.starts_with("KHR_materials_"))
+        .map(|e| {
+            format!(
+                "{}: extensionsUsed: extension {e} is not supported by lumis; ignored",
+                origin.display()
+            )
+        })
+        .collect()
+}
+
+/// Reads the extensions that map (`KHR_materials_specular`'s factors into F0,
+/// `KHR_materials_clearcoat` into a mirror weight) and warns of every other one and of their
+/// textures. Returns `(f0, clearcoat mirror weight)`.
+fn extensions(m: &gltf::Material, warn: &mut dyn FnMut(String)) -> (Vec3, f32) {
+    let mut f0 = Vec3::splat(DIELECTRIC_F0);
+    let mut clearcoat = 0.0;
+    let Some(exts) = m.extensions() else {
+        return (f0, clearcoat);
+    };
+    let number = |v: &Value, key: &str, default: f32| {
+        v.get(key)
+            .and_then(Value::as_f64)
+            .map_or(default, |x| unit(x as f32))
+    };
+    let textures = |v: &Value, ext: &str, warn: &mut dyn FnMut(String)| {
+        if let Some(obj) = v.as_object() {
+            for key in obj.keys().filter(|k| k.ends_with("Texture")) {
+                warn(format!(
+                    "{ext} {key} is not used; its factor applies everywhere"
+                ));
+            }
+        }
+    };
+    for (name, v) in exts {
+        match name.as_str() {
+            "KHR_materials_specular" => {
+                let colour = v
+                    .get("specularColorFactor")
+                    .and_then(Value::as_array)
+                    .and_then(|a| match a.as_slice() {
+                        [r, g, b] => Some(Vec3::new(
+                            r.as_f64()? as f32,
+                            g.as_f64()? as f32,
+                            b.as_f64()? as f32,
+                        )),
+                        _ => None,
+                    })
+                    .filter(|c| c.is_finite())
+                    .unwrap_or(Vec3::ONE)
+                    .max(Vec3::ZERO);
+                f0 = (f0 * colour * number(v, "specularFactor", 1.0)).min(Vec3::ONE);
+                textures(v, name, warn);
+            }
+            "KHR_materials_clearcoat" => {
+                let smooth = (1.0 - number(v, "clearcoatRoughness", 0.0)).powi(2);
+                clearcoat = number(v, "clearcoatFactor", 0.0) * DIELECTRIC_F0 * smooth;
+                textures(v, name, warn);
+            }
+            other => {
+                warn(format!(
+                    "extension {other} is not supported by lumis; ignored"
+                ));
+            }
+        }
+    }
+    (f0, clearcoat)
 }
 
 /// `x` clamped to `[0, 1]` (glTF factors are specified there; JSON cannot carry NaN).
 fn unit(x: f32) -> f32 {
     x.clamp(0.0, 1.0)
-}
-
-/// Where an image's bytes are: the resolved file, an embedded data URI, or a buffer view.
-/// Decodes `image` (an external file, a data URI or a buffer view of `buffers`) into a linear
-/// texture; the error says which image failed and why.
-pub(super) fn decode_image(
-    image: &gltf::Image,
-    buffers: &[Vec<u8>],
-    origin: &Path,
-    resolver: Resolver<'_>,
-) -> Result<ImageTexture, String> {
-    let at = format!("images[{}]", image.index());
-    let (bytes, name) = match image.source() {
-        gltf::image::Source::Uri { uri, .. } => {
-            let name = if uri.starts_with("data:") {
-                origin.to_path_buf()
-            } else {
-                resolve_uri(origin, uri)
-            };
-            let bytes = read_uri(uri, origin, resolver).map_err(|e| match e {
-                UriError::Data(m) => format!("{at}: {m}"),
-                UriError::File(f, e) => format!("{at}: cannot read {}: {e}", f.display()),
-            })?;
-            (bytes, name)
-        }
-        gltf::image::Source::View { view, .. } => {
-            let buffer = buffers
-                .get(view.buffer().index())
-                .ok_or(format!("{at}: its buffer is missing"))?;
-            let bytes = buffer
-                .get(view.offset()..view.offset().saturating_add(view.length()))
-                .ok_or(format!(
-                    "{at}: bufferViews[{}] lies outside its buffer",
-                    view.index()
-                ))?;
-            (bytes.to_vec(), origin.to_path_buf())
-        }
-    };
-    ImageTexture::decode(&bytes, &name).map_err(|e| format!("{at}: {e}"))
 }

@@ -13,21 +13,21 @@
 //! lumis render model.glb --gltf-scene 0 --camera 1
 //! ```
 
+mod accessor;
 mod buffers;
 mod lenient;
 mod materials;
 mod nodes;
 mod primitives;
+mod tangents;
+mod textures;
 
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::path::Path;
-use std::sync::Arc;
 
 use super::{Resolver, Scene, SceneBuilder, SceneError, UpAxis, auto};
 use crate::geometry::Mesh;
-use crate::material::{Material, Texture};
-use crate::texture::ImageTexture;
 
 /// Choices a model file leaves to the caller: `scene` and `camera` only exist in glTF files,
 /// `up` and `auto_camera` apply to OBJ files too.
@@ -89,41 +89,21 @@ fn load_inner(
     let placed = nodes::flatten(&doc, options.scene, options.up.to_y_up(), origin)?;
 
     let mut b = SceneBuilder::new();
-    // One lumis material per glTF material, converted in file order.
-    let mut material_ids = Vec::new();
-    // Decoded once however many materials share an image.
-    let mut images: HashMap<usize, Result<Arc<ImageTexture>, String>> = HashMap::new();
-    for m in doc.materials() {
-        let mut c = materials::convert(&m, origin, &mut warnings);
-        if let (Some(index), Texture::Solid(factor)) = (c.base_color_image, &c.material.diffuse) {
-            // A texture that cannot be read leaves the plain factor, with a warning (as for OBJ).
-            match doc
-                .images()
-                .nth(index)
-                .ok_or(format!("images[{index}] does not exist"))
-                .and_then(|image| {
-                    images
-                        .entry(index)
-                        .or_insert_with(|| {
-                            materials::decode_image(&image, &data, origin, resolver).map(Arc::new)
-                        })
-                        .clone()
-                }) {
-                Ok(image) => {
-                    c.material.diffuse = Texture::Image {
-                        image,
-                        tint: *factor,
-                    }
-                }
-                Err(e) => warnings.push(format!(
-                    "{}: {}: base colour texture not applied: {e}",
-                    origin.display(),
-                    c.element
-                )),
-            }
-        }
-        material_ids.push(b.add_material(c.material));
-    }
+    // One lumis material per glTF material, converted in file order; images decoded once.
+    let mut images = textures::Images::new(&data, origin, resolver);
+    let converted: Vec<_> = doc
+        .materials()
+        .map(|m| materials::convert(&m, &mut images, &mut warnings))
+        .collect();
+    let material_ids: Vec<u32> = converted
+        .iter()
+        .map(|c| b.add_material(c.material.clone()))
+        .collect();
+    warnings.extend(images.unused(&doc));
+    warnings.extend(materials::unused_extensions(&doc, origin));
+    let fallback = materials::Converted::default_material();
+    // Materials of meshes with vertex colours, by glTF material (`None`: the default).
+    let mut colour_variants: HashMap<Option<usize>, u32> = HashMap::new();
     let mut default_material = None;
     // Object-space meshes by (mesh, primitive), read once however many nodes instance them.
     let mut cache: HashMap<(usize, usize), Option<Mesh>> = HashMap::new();
@@ -153,6 +133,8 @@ fn load_inner(
                     ));
                     continue;
                 }
+                let index = prim.material().index();
+                let conv = index.and_then(|i| converted.get(i)).unwrap_or(&fallback);
                 let object_mesh = match cache.entry((mesh.index(), prim.index())) {
                     Entry::Occupied(e) => e.into_mut(),
                     Entry::Vacant(e) => e.insert(primitives::primitive_mesh(
@@ -160,19 +142,22 @@ fn load_inner(
                         mesh.index(),
                         &data,
                         origin,
+                        conv,
                         &mut warnings,
                     )?),
                 };
                 let Some(object_mesh) = object_mesh else {
                     continue;
                 };
-                let material = match prim.material().index() {
+                let coloured = object_mesh.attributes().is_some_and(|a| a.colors.is_some());
+                let material = match index {
+                    // Vertex colours vary the base colour over the surface.
+                    _ if coloured => *colour_variants
+                        .entry(index)
+                        .or_insert_with(|| b.add_material(conv.with_vertex_colors())),
                     Some(i) => material_ids[i],
-                    // lumis's grey rather than glTF's default (metallic 1, roughness 1), which
-                    // a Whitted renderer without environment light would show almost black.
-                    None => {
-                        *default_material.get_or_insert_with(|| b.add_material(Material::default()))
-                    }
+                    None => *default_material
+                        .get_or_insert_with(|| b.add_material(fallback.material.clone())),
                 };
                 let name = if mesh.primitives().len() > 1 {
                     format!("{node_name}/{}", prim.index())

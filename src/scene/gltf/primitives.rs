@@ -1,8 +1,11 @@
 //! One glTF mesh primitive to one lumis [`Mesh`] in the mesh's own (object) space: triangle
 //! lists, strips and fans; u8/u16/u32 or implied indices; sparse accessors (through the crate's
 //! reader, after [`super::buffers::check_accessors`] has checked every byte range);
-//! `NORMAL` when given (otherwise the mesh is flat-shaded, as the specification asks) and
-//! `TEXCOORD_0`.
+//! `NORMAL` when given (otherwise the mesh is flat-shaded, as the specification asks),
+//! `TEXCOORD_0`/`_1`, `COLOR_0` and `TANGENT` (generated MikkTSpace tangents when a normal
+//! texture needs them and the file has none), in any component type the specification and
+//! `KHR_mesh_quantization` allow ([`super::accessor`]). Attributes lumis does not use are
+//! warned of.
 
 use std::path::Path;
 
@@ -11,8 +14,14 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
 use super::super::SceneError;
-use crate::geometry::{Mesh, MeshError};
-use crate::math::{Vec2, Vec3};
+use super::accessor::{self, Allowed};
+use super::materials::Converted;
+use super::tangents;
+use crate::geometry::{Mesh, MeshAttributes, MeshError};
+use crate::math::{Vec2, Vec3, Vec4};
+
+/// Shorthand: the dimensions of positions, normals and RGB colours.
+const VEC3: Dimensions = Dimensions::Vec3;
 
 /// Reads primitive `prim` of mesh `mesh_index`. `Ok(None)` for a primitive lumis does not
 /// draw (points, lines, no whole triangle); `warnings` gets the reason.
@@ -21,6 +30,7 @@ pub(super) fn primitive_mesh(
     mesh_index: usize,
     buffers: &[Vec<u8>],
     origin: &Path,
+    material: &Converted,
     warnings: &mut Vec<String>,
 ) -> Result<Option<Mesh>, SceneError> {
     let element = format!("meshes[{mesh_index}].primitives[{}]", prim.index());
@@ -37,50 +47,82 @@ pub(super) fn primitive_mesh(
         return Ok(None);
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+    let mut warn = |msg: String| warnings.push(format!("{}: {element}: {msg}", origin.display()));
 
     let pos_acc = prim
         .get(&Semantic::Positions)
         .ok_or_else(|| err("has no POSITION attribute".into()))?;
     let pos_name = format!("POSITION accessors[{}]", pos_acc.index());
-    if !is(&pos_acc, Dimensions::Vec3, &[DataType::F32]) {
-        return Err(err(format!("{pos_name} must be VEC3 of FLOAT")));
-    }
-    let positions: Vec<Vec3> = reader
-        .read_positions()
-        .ok_or_else(|| err(format!("{pos_name} has no data")))?
+    let positions: Vec<Vec3> = accessor::read::<3>(&pos_acc, &[VEC3], Allowed::Position, buffers)
+        .map_err(|e| err(format!("{pos_name} {e}")))?
+        .into_iter()
         .map(Vec3::from)
         .collect();
 
     let normals = match prim.get(&Semantic::Normals) {
-        Some(acc) if is(&acc, Dimensions::Vec3, &[DataType::F32]) => {
-            reader.read_normals().map(|n| n.map(Vec3::from).collect())
-        }
-        Some(acc) => {
-            return Err(err(format!(
-                "NORMAL accessors[{}] must be VEC3 of FLOAT",
-                acc.index()
-            )));
-        }
+        Some(acc) => Some(
+            accessor::read::<3>(&acc, &[VEC3], Allowed::Direction, buffers)
+                .map_err(|e| err(format!("NORMAL accessors[{}] {e}", acc.index())))?
+                .into_iter()
+                // Quantized normals are only nearly unit.
+                .map(|n| Vec3::from(n).normalize_or_zero())
+                .collect::<Vec<_>>(),
+        ),
         None => None,
     };
 
-    let uv_types = [DataType::F32, DataType::U8, DataType::U16];
-    let uvs: Option<Vec<Vec2>> = match prim.get(&Semantic::TexCoords(0)) {
-        Some(acc) if is(&acc, Dimensions::Vec2, &uv_types) => reader
-            .read_tex_coords(0)
-            .map(|t| t.into_f32().map(Vec2::from).collect()),
-        Some(acc) => {
-            warnings.push(format!(
-                "{}: {element}: TEXCOORD_0 accessors[{}] is not VEC2 of FLOAT, UNSIGNED_BYTE \
-                 or UNSIGNED_SHORT; texture coordinates ignored",
-                origin.display(),
-                acc.index()
-            ));
-            None
+    let mut uv_set = |set: u32| -> Option<Vec<Vec2>> {
+        let acc = prim.get(&Semantic::TexCoords(set))?;
+        match accessor::read::<2>(&acc, &[Dimensions::Vec2], Allowed::TexCoord, buffers) {
+            Ok(t) => Some(t.into_iter().map(Vec2::from).collect()),
+            Err(e) => {
+                warn(format!(
+                    "TEXCOORD_{set} accessors[{}] {e}; texture coordinates ignored",
+                    acc.index()
+                ));
+                None
+            }
         }
-        None => None,
     };
-
+    let uvs = uv_set(0);
+    let uv1 = uv_set(1);
+    let colors = prim.get(&Semantic::Colors(0)).and_then(|acc| {
+        let dims = [VEC3, Dimensions::Vec4];
+        match accessor::read::<4>(&acc, &dims, Allowed::Color, buffers) {
+            Ok(c) => {
+                let rgb = acc.dimensions() == VEC3;
+                Some(
+                    c.into_iter()
+                        .map(|c| Vec4::new(c[0], c[1], c[2], if rgb { 1.0 } else { c[3] }))
+                        .collect::<Vec<_>>(),
+                )
+            }
+            Err(e) => {
+                warn(format!(
+                    "COLOR_0 accessors[{}] {e}; colours ignored",
+                    acc.index()
+                ));
+                None
+            }
+        }
+    });
+    let file_tangents = prim.get(&Semantic::Tangents).and_then(|acc| {
+        if !material.needs_tangents {
+            warn("TANGENT is not used (the material has no normalTexture)".into());
+            return None;
+        }
+        match accessor::read::<4>(&acc, &[Dimensions::Vec4], Allowed::Direction, buffers) {
+            Ok(t) => Some(t.into_iter().map(Vec4::from).collect::<Vec<_>>()),
+            Err(e) => {
+                warn(format!(
+                    "TANGENT accessors[{}] {e}; tangents generated instead",
+                    acc.index()
+                ));
+                None
+            }
+        }
+    });
+    unused_attributes(prim, &mut warn);
     let (index_name, indices): (String, Vec<u32>) = match prim.indices() {
         Some(acc) => {
             let name = format!("indices accessors[{}]", acc.index());
@@ -103,24 +145,91 @@ pub(super) fn primitive_mesh(
 
     let (triangles, leftover) = triangulate(mode, &indices);
     if leftover > 0 {
-        warnings.push(format!(
-            "{}: {element}: {leftover} trailing indices do not make a whole triangle; ignored",
-            origin.display()
+        warn(format!(
+            "{leftover} trailing indices do not make a whole triangle; ignored"
         ));
     }
     if triangles.is_empty() {
-        warnings.push(format!(
-            "{}: {element}: no triangles; skipped",
-            origin.display()
-        ));
+        warn("no triangles; skipped".into());
         return Ok(None);
     }
-    let mesh = Mesh::new(positions, normals, uvs, triangles).map_err(|e| match e {
+    let counts = |e: MeshError| match e {
         MeshError::NonFinitePosition(_) => err(format!("{pos_name}: {e}")),
         MeshError::IndexOutOfRange { .. } => err(format!("{index_name}: {e}")),
         MeshError::AttributeCount { .. } => err(e.to_string()),
-    })?;
+    };
+    let tangents = if material.needs_tangents {
+        let set = material
+            .params
+            .normal_texture
+            .as_ref()
+            .map_or(0, |(t, _)| t.tex_coord);
+        let set_uvs = if set == 1 {
+            uv1.as_deref()
+        } else {
+            uvs.as_deref()
+        };
+        match (file_tangents, normals.as_deref(), set_uvs) {
+            (Some(t), ..) if t.len() == positions.len() => Some(
+                triangles
+                    .iter()
+                    .map(|idx| idx.map(|i| t[i as usize]))
+                    .collect(),
+            ),
+            (_, Some(n), Some(uv)) if n.len() == positions.len() && uv.len() == n.len() => {
+                tangents::generate(&positions, n, uv, &triangles)
+            }
+            _ => {
+                warn(format!(
+                    "normalTexture of {} not applied: tangents need TANGENT, or NORMAL and \
+                     TEXCOORD_{set} to generate them",
+                    material.element
+                ));
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let mut mesh = Mesh::new(positions, normals, uvs, triangles)
+        .and_then(|m| {
+            m.with_attributes(MeshAttributes {
+                uv1,
+                colors,
+                tangents,
+            })
+        })
+        .map_err(counts)?;
+    mesh.set_alpha_test(material.alpha.clone());
     Ok(Some(mesh))
+}
+
+/// Warns of every attribute lumis does not read (skinning, further UV and colour sets,
+/// application-specific ones) and of morph targets.
+fn unused_attributes(prim: &gltf::Primitive, warn: &mut dyn FnMut(String)) {
+    for (semantic, acc) in prim.attributes() {
+        let unused = match &semantic {
+            Semantic::TexCoords(n) => *n > 1,
+            Semantic::Colors(n) => *n > 0,
+            Semantic::Joints(_) | Semantic::Weights(_) => true,
+            Semantic::Positions | Semantic::Normals | Semantic::Tangents => false,
+            #[allow(unreachable_patterns)]
+            _ => true,
+        };
+        if unused {
+            warn(format!(
+                "attribute {} (accessors[{}]) is not used",
+                semantic.to_string(),
+                acc.index()
+            ));
+        }
+    }
+    if prim.morph_targets().len() > 0 {
+        warn(format!(
+            "{} morph targets are not used (the base shape is drawn)",
+            prim.morph_targets().len()
+        ));
+    }
 }
 
 /// True when `acc` has dimensions `dims` and one of the component types `types`.

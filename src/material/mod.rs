@@ -12,8 +12,15 @@
 //! ior = 1.5
 //! ```
 
+mod textured;
+
+use std::sync::Arc;
+
 use crate::math::Vec3;
 pub use crate::texture::{NormalMap, Texture};
+pub use textured::{
+    AtHit, MAX_SHININESS, MetalRough, TexturedParams, metal_rough, textured_bounds,
+};
 
 /// A material. Colours are linear RGB.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,6 +41,10 @@ pub struct Material {
     pub emission: Vec3,
     /// Optional noise perturbation of the shading normal (the `.scn` `NormalMap`).
     pub normal_map: Option<NormalMap>,
+    /// Parameters that vary over the surface (glTF textures and vertex colours): where given,
+    /// shading evaluates them at each hit ([`Material::at_hit`]) and the fields above are only
+    /// upper bounds, for the effect decisions.
+    pub textured: Option<Arc<TexturedParams>>,
 }
 
 impl Default for Material {
@@ -47,11 +58,17 @@ impl Default for Material {
             ior: 1.5,
             emission: Vec3::ZERO,
             normal_map: None,
+            textured: None,
         }
     }
 }
 
 impl Material {
+    /// True when shading reads the hit's texture coordinates.
+    pub fn reads_uv(&self) -> bool {
+        self.diffuse.reads_uv() || self.textured.is_some()
+    }
+
     /// True when the material spawns mirror rays (its own or the reflected part of transmission).
     pub fn reflects(&self) -> bool {
         self.reflectivity > 0.0 || self.transmission > 0.0
