@@ -186,3 +186,24 @@ fn up_z_turns_a_gltf_scene_with_its_cameras_and_lights() {
     };
     assert!((position - lumis::math::Vec3::new(-2.0, 2.0, -4.0)).length() < 1e-5);
 }
+
+#[test]
+fn an_accessor_without_a_buffer_view_reads_as_zeros() {
+    // The same quad with and without its TEXCOORD_0 data: without, every corner is (0, 0).
+    let uvs = |name: &str| -> Vec<[f32; 2]> {
+        let s = load(name);
+        let mesh = &s.geometry().meshes()[0];
+        (0..mesh.triangle_count() as u32)
+            .flat_map(|t| [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)].map(|(u, v)| (t, u, v)))
+            .map(|(t, u, v)| mesh.uv(t, u, v).to_array())
+            .collect()
+    };
+    let given = uvs("textured_quad.gltf");
+    assert!(given.iter().any(|uv| *uv != [0.0, 0.0]), "{given:?}");
+    let zeros = uvs("no_view_uv.gltf");
+    assert_eq!(zeros.len(), given.len());
+    assert!(zeros.iter().all(|uv| *uv == [0.0, 0.0]), "{zeros:?}");
+    // And it renders: the whole quad shows the texel at (0, 0), lit.
+    let film = render_at(load("no_view_uv.gltf"), 16, 16);
+    assert!(film.pixel(8, 8).x > 0.0);
+}

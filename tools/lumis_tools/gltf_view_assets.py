@@ -11,8 +11,11 @@ camera looking from -Z. Written to assets/gltf/ beside gen_gltf_assets.py's own 
   sun.gltf               the cube on a ground quad under a 68,300 lux directional sun, with
                          a perspective camera.
   back_camera.gltf       the cube (no lights) seen by a camera at z = -4 looking +Z.
+  no_view_uv.gltf        textured_quad.gltf whose TEXCOORD_0 accessor has no bufferView: all
+                         zeros by the specification, so the whole quad shows texel (0, 0).
 """
 
+import json
 import os
 
 # Imported when gen_gltf_assets runs generate(), so that module is complete by then.
@@ -80,6 +83,16 @@ def back_camera():
     write(d, "back_camera", "data")
 
 
+def no_view_uv():
+    # From the file gen_gltf_assets.py has just written, sharing its buffer and image.
+    with open(os.path.join(OUT, "textured_quad.gltf")) as f:
+        j = json.load(f)
+    uv = j["accessors"][j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"]]
+    del uv["bufferView"]
+    uv.pop("byteOffset", None)
+    write_json(os.path.join(OUT, "no_view_uv.gltf"), j)
+
+
 def generate():
     """Writes every file listed above."""
     custom_attribute()
@@ -88,3 +101,4 @@ def generate():
     ortho_cubes()
     sun()
     back_camera()
+    no_view_uv()

@@ -9,6 +9,8 @@
 //! * a `POSITION` accessor without `min`/`max` (required by the specification, omitted by real
 //!   files) and a primitive without `POSITION` (allowed: it is not drawn) fail validation; those
 //!   two findings are downgraded to warnings. lumis computes bounds from the vertices anyway.
+//! * an accessor with neither `bufferView` nor `sparse` (all zeros, by the specification) fails
+//!   validation as missing data; it is read as zeros.
 //!
 //! Every other validation error still refuses the file.
 
@@ -120,6 +122,11 @@ pub(super) fn validate(
             }
             // primitives.rs reports a primitive without POSITION when it is met (not drawn).
             _ if *finding == Finding::Missing && at.ends_with(position) => {}
+            // An accessor with neither a buffer view nor sparse values is all zeros by the
+            // specification; `accessor::read` makes them (and bounds their number).
+            _ if *finding == Finding::Missing
+                && at.starts_with("accessors[")
+                && at.ends_with("].bufferView") => {}
             _ => refused.push(format!("{at}: {finding}")),
         }
     }
