@@ -207,3 +207,22 @@ fn an_accessor_without_a_buffer_view_reads_as_zeros() {
     let film = render_at(load("no_view_uv.gltf"), 16, 16);
     assert!(film.pixel(8, 8).x > 0.0);
 }
+
+#[test]
+fn a_texture_without_a_source_loads_untextured_with_a_warning() {
+    // `source` is optional (an extension may name the only image); lumis cannot read that
+    // image, so the material keeps its factors and says why.
+    let s = load("no_source.gltf");
+    assert!(
+        warned(
+            &s,
+            &["baseColorTexture not applied", "textures[0] has no source"]
+        ),
+        "{:?}",
+        s.warnings()
+    );
+    assert!(warned(&s, &["EXT_texture_webp", "not supported"]));
+    let film = render_at(s, 16, 16);
+    let p = film.pixel(8, 8);
+    assert!(p.x > 0.0 && p.x.is_finite(), "{p}");
+}

@@ -13,6 +13,8 @@ camera looking from -Z. Written to assets/gltf/ beside gen_gltf_assets.py's own 
   back_camera.gltf       the cube (no lights) seen by a camera at z = -4 looking +Z.
   no_view_uv.gltf        textured_quad.gltf whose TEXCOORD_0 accessor has no bufferView: all
                          zeros by the specification, so the whole quad shows texel (0, 0).
+  no_source.gltf         textured_quad.gltf whose texture has no `source`, only an
+                         EXT_texture_webp image (valid: `source` is optional).
 """
 
 import json
@@ -93,6 +95,15 @@ def no_view_uv():
     write_json(os.path.join(OUT, "no_view_uv.gltf"), j)
 
 
+def no_source():
+    with open(os.path.join(OUT, "textured_quad.gltf")) as f:
+        j = json.load(f)
+    texture = j["textures"][0]
+    texture["extensions"] = {"EXT_texture_webp": {"source": texture.pop("source")}}
+    j["extensionsUsed"] = ["EXT_texture_webp"]
+    write_json(os.path.join(OUT, "no_source.gltf"), j)
+
+
 def generate():
     """Writes every file listed above."""
     custom_attribute()
@@ -102,3 +113,4 @@ def generate():
     sun()
     back_camera()
     no_view_uv()
+    no_source()

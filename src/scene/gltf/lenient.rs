@@ -9,6 +9,8 @@
 //! * a `POSITION` accessor without `min`/`max` (required by the specification, omitted by real
 //!   files) and a primitive without `POSITION` (allowed: it is not drawn) fail validation; those
 //!   two findings are downgraded to warnings. lumis computes bounds from the vertices anyway.
+//! * a texture without `source` is allowed through the crate's `allow_empty_texture` feature
+//!   (textures.rs warns and leaves it out);
 //! * an accessor with neither `bufferView` nor `sparse` (all zeros, by the specification) fails
 //!   validation as missing data; it is read as zeros.
 //!

@@ -42,11 +42,13 @@ impl<'a> Images<'a> {
             .filter(|t| !self.used.get(t.index()).copied().unwrap_or(false))
             .map(|t| {
                 let name = t.name().map_or(String::new(), |n| format!(" \"{n}\""));
+                let image = t
+                    .source()
+                    .map_or("no image".into(), |i| format!("images[{}]", i.index()));
                 format!(
-                    "{}: textures[{}]{name} (images[{}]) is not used by lumis",
+                    "{}: textures[{}]{name} ({image}) is not used by lumis",
                     self.origin.display(),
                     t.index(),
-                    t.source().index()
                 )
             })
             .collect()
@@ -95,7 +97,17 @@ pub(super) fn reference(
         ));
         return None;
     }
-    let image = match images.get(&slot.texture.source()) {
+    // `source` is optional: an extension (KHR_texture_basisu, EXT_texture_webp) may be the
+    // only one naming the image.
+    let Some(source) = slot.texture.source() else {
+        warn(format!(
+            "{name} not applied: textures[{}] has no source image lumis can read (only an \
+             extension's)",
+            slot.texture.index()
+        ));
+        return None;
+    };
+    let image = match images.get(&source) {
         Ok(image) => image,
         Err(e) => {
             warn(format!("{name} not applied: {e}"));
