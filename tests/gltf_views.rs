@@ -226,3 +226,32 @@ fn a_texture_without_a_source_loads_untextured_with_a_warning() {
     let p = film.pixel(8, 8);
     assert!(p.x > 0.0 && p.x.is_finite(), "{p}");
 }
+
+#[test]
+fn a_spot_light_without_its_spot_object_gets_the_default_cone() {
+    let s = load("spot_defaults.gltf");
+    assert!(
+        warned(&s, &["lights[1]", "default cone"]),
+        "{:?}",
+        s.warnings()
+    );
+    let cones: Vec<(f32, f32)> = s
+        .lights()
+        .iter()
+        .filter_map(|l| match l {
+            Light::Spot {
+                cos_inner,
+                cos_outer,
+                ..
+            } => Some((*cos_inner, *cos_outer)),
+            _ => None,
+        })
+        .collect();
+    // Inner angle 0, outer pi/4.
+    assert_eq!(cones.len(), 1);
+    assert_eq!(cones[0].0, 1.0);
+    assert!(
+        (cones[0].1 - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-6,
+        "{cones:?}"
+    );
+}

@@ -15,6 +15,8 @@ camera looking from -Z. Written to assets/gltf/ beside gen_gltf_assets.py's own 
                          zeros by the specification, so the whole quad shows texel (0, 0).
   no_source.gltf         textured_quad.gltf whose texture has no `source`, only an
                          EXT_texture_webp image (valid: `source` is optional).
+  spot_defaults.gltf     lights_camera.gltf whose spot light has no `spot` object (its cone
+                         angles all have defaults: inner 0, outer pi/4).
 """
 
 import json
@@ -104,6 +106,15 @@ def no_source():
     write_json(os.path.join(OUT, "no_source.gltf"), j)
 
 
+def spot_defaults():
+    with open(os.path.join(OUT, "lights_camera.gltf")) as f:
+        j = json.load(f)
+    for light in j["extensions"]["KHR_lights_punctual"]["lights"]:
+        if light["type"] == "spot":
+            del light["spot"]
+    write_json(os.path.join(OUT, "spot_defaults.gltf"), j)
+
+
 def generate():
     """Writes every file listed above."""
     custom_attribute()
@@ -114,3 +125,4 @@ def generate():
     back_camera()
     no_view_uv()
     no_source()
+    spot_defaults()

@@ -12,7 +12,9 @@
 //! * a texture without `source` is allowed through the crate's `allow_empty_texture` feature
 //!   (textures.rs warns and leaves it out);
 //! * an accessor with neither `bufferView` nor `sparse` (all zeros, by the specification) fails
-//!   validation as missing data; it is read as zeros.
+//!   validation as missing data; it is read as zeros;
+//! * a spot light without its `spot` object (whose properties all have defaults) fails
+//!   validation; it gets the default cone, with a warning.
 //!
 //! Every other validation error still refuses the file.
 
@@ -56,6 +58,7 @@ fn repair(value: &mut Value, path: &Path, warnings: &mut Vec<String>) -> bool {
             }
         }
     }
+    changed |= default_spot_cones(value, path, warnings);
     let Some(meshes) = value.get_mut("meshes").and_then(Value::as_array_mut) else {
         return changed;
     };
@@ -88,6 +91,34 @@ fn repair(value: &mut Value, path: &Path, warnings: &mut Vec<String>) -> bool {
                     "attributes"
                 },
                 custom.join(", ")
+            ));
+        }
+    }
+    changed
+}
+
+/// Gives spot lights without a `spot` object an empty one, so the crate reads the
+/// extension's default cone (inner 0, outer pi/4) instead of refusing the file; true if any.
+fn default_spot_cones(value: &mut Value, path: &Path, warnings: &mut Vec<String>) -> bool {
+    let Some(lights) = value
+        .pointer_mut("/extensions/KHR_lights_punctual/lights")
+        .and_then(Value::as_array_mut)
+    else {
+        return false;
+    };
+    let mut changed = false;
+    for (i, light) in lights.iter_mut().enumerate() {
+        let Some(light) = light.as_object_mut() else {
+            continue;
+        };
+        if light.get("type").and_then(Value::as_str) == Some("spot") && !light.contains_key("spot")
+        {
+            light.insert("spot".into(), Value::Object(Default::default()));
+            changed = true;
+            warnings.push(format!(
+                "{}: extensions.KHR_lights_punctual.lights[{i}]: a spot light without `spot`; \
+                 the default cone (inner 0, outer pi/4) is used",
+                path.display()
             ));
         }
     }
