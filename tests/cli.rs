@@ -163,7 +163,7 @@ fn out_of_range_flags_fail_before_rendering() {
         (&["--spp", "100000"], "spp 100000 must be in 1..=64"),
         (
             &["--width", "100000", "--height", "20000"],
-            "image size 100000x20000",
+            "width 100000 must be in 1..=65536",
         ),
     ];
     for (args, message) in cases {
