@@ -1,28 +1,56 @@
 //! The split of a large node: its primitives' centroids binned on all three axes in one pass,
-//! the cheapest bin boundary chosen, and the primitives partitioned in place around it.
+//! the cheapest bin boundary chosen on all three at once, and the primitives partitioned in
+//! place around it.
 
-use super::boxes::{Box3, Centroids, Ref};
-use super::{Side, Span, TRAVERSAL_COST, leaf_cost};
-use crate::math::Vec3A;
+mod gather;
+
+use super::boxes::{Box3, Centroids, Ref, half_areas4};
+use super::{LEAF_ALIGN, Side, Span, TRAVERSAL_COST, leaf_cost};
+use crate::math::{Vec3A, Vec4};
+use glam::BVec4A;
 
 /// Bins per axis.
 const BINS: usize = 16;
 
-/// The boxes and slot counts of each axis's bins.
+/// The bins of all three axes, bin-major (`[bin][axis]`, axis 3 unused), so one bin's three
+/// axes are priced together. Each count takes 8 bytes, a quarter of a box, so the binning loop
+/// addresses a bin's box and count with one index (see [`gather`]).
+#[repr(C, align(32))]
 struct Bins {
-    boxes: [[Box3; BINS]; 3],
-    slots: [[u32; BINS]; 3],
+    boxes: [[Box3; 4]; BINS],
+    slots: [[[u32; 2]; 4]; BINS],
+}
+
+/// Slot counts of one boundary side, one lane per axis.
+struct Counts {
+    /// Each lane's [`leaf_cost`].
+    groups: Vec4,
+    /// Lanes with any primitive.
+    any: BVec4A,
+}
+
+impl Counts {
+    #[inline(always)]
+    fn of(slots: [u32; 4]) -> Self {
+        let f = |f: fn(u32) -> u32| Vec4::from_array(slots.map(|s| f(s) as i32 as f32));
+        Self {
+            groups: f(|s| s.div_ceil(LEAF_ALIGN as u32)),
+            any: f(|s| s).cmpgt(Vec4::ZERO),
+        }
+    }
 }
 
 /// The chosen boundary: the primitives of bins `< bin` on `axis` go left.
 struct Choice {
     axis: usize,
     bin: usize,
+    /// Areas weighted by leaf costs, before the parent's area and the traversal.
     cost: f32,
 }
 
 /// Splits at the cheapest bin boundary when that beats a leaf (or the node is too big to be
 /// one); `None` keeps the node a leaf.
+#[inline(always)]
 pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Span<'a>)> {
     let n = span.len();
     let cb = span.centroids;
@@ -37,102 +65,93 @@ pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Sp
         Vec3A::ZERO,
     );
     let mut bins = Bins {
-        boxes: [[Box3::EMPTY; BINS]; 3],
-        slots: [[0; BINS]; 3],
+        boxes: [[Box3::EMPTY; 4]; BINS],
+        slots: [[[0; 2]; 4]; BINS],
     };
-    // Spans of triangles only (one slot each) count primitives without reading their slots.
-    if span.slots == n as u32 {
-        bins.gather::<false>(span.refs, cb.min, scale);
-    } else {
-        bins.gather::<true>(span.refs, cb.min, scale);
-    }
+    gather::gather(&mut bins, span.refs, span.slots == n as u32, cb.min, scale);
+    let Some(c) = bins.choose(scale) else {
+        // No plane separates the centroids (or no boundary has a finite cost): halve by index
+        // to keep leaves small.
+        return (n > max_leaf).then(|| span.cut_scanning(n / 2));
+    };
     let parent_area = span.bounds.half_area().max(f32::MIN_POSITIVE);
-    match bins.choose(scale, parent_area) {
-        Some(c) if c.cost < leaf_cost(span.slots) || n > max_leaf => {
-            let (left, right) = bins.sides(&c);
-            let (lo, s) = (cb.min.to_array()[c.axis], scale.to_array()[c.axis]);
-            // `bin_index(x) < bin` is `x < bin` for the offsets `x >= 0` (or NaN) binned here.
-            let threshold = c.bin as f32;
-            let is_left = |r: &Ref| (r.centroid2_on(c.axis) - lo) * s < threshold;
-            Some(partition(span, left, right, is_left))
-        }
-        // All centroids coincide: no plane separates them, so halve by index to keep leaves small.
-        None if n > max_leaf => Some(span.cut_scanning(n / 2)),
-        _ => None,
+    if !(TRAVERSAL_COST + c.cost / parent_area < leaf_cost(span.slots) || n > max_leaf) {
+        return None;
     }
+    let (left, right) = bins.sides(&c);
+    let (lo, s) = (cb.min.to_array()[c.axis], scale.to_array()[c.axis]);
+    // `bin_index(x) < bin` is `x < bin` for the offsets `x >= 0` (or NaN) binned here.
+    let threshold = c.bin as f32;
+    let is_left = |r: &Ref| (r.centroid2_on(c.axis) - lo) * s < threshold;
+    Some(partition(span, left, right, is_left))
 }
 
 impl Bins {
-    /// Counts the slots of each primitive in, and grows the box of, its centroid's bin on
-    /// every axis. `MIXED`: the primitives' slots are read (else each counts one).
+    /// The cheapest boundary with primitives on both sides, over the axes the centroids span
+    /// (ties to the lower axis, then the lower boundary); `None` if no boundary has a finite
+    /// cost.
     #[inline(always)]
-    fn gather<const MIXED: bool>(&mut self, refs: &[Ref], offset: Vec3A, scale: Vec3A) {
-        for r in refs {
-            let at = bin_indices((r.centroid2() - offset) * scale);
-            let slots = if MIXED { r.slots() } else { 1 };
-            for (axis, &bin) in at.iter().take(3).enumerate() {
-                let bin = bin as usize & (BINS - 1);
-                let b = &mut self.boxes[axis][bin];
-                *b = b.union(r.bounds());
-                self.slots[axis][bin] += slots;
+    fn choose(&self, scale: Vec3A) -> Option<Choice> {
+        // Per boundary i (bins < i go left), one lane per axis: the area and slots right of it.
+        let mut right_area = [Vec4::ZERO; BINS];
+        let mut right_slots = [[0u32; 4]; BINS];
+        let (mut r, mut rs) = ([Box3::EMPTY; 4], [0u32; 4]);
+        for i in (1..BINS).rev() {
+            for a in 0..3 {
+                r[a] = r[a].union(self.boxes[i][a]);
+                rs[a] += self.slots(i, a);
             }
+            right_area[i] = Vec4::from_array(half_areas4(&r));
+            right_slots[i] = rs;
         }
+        let s = scale.to_array();
+        let spans = Vec4::new(s[0], s[1], s[2], 0.0).cmpgt(Vec4::ZERO);
+        let (mut best, mut best_bin) = (Vec4::INFINITY, Vec4::ZERO);
+        let (mut l, mut ls) = ([Box3::EMPTY; 4], [0u32; 4]);
+        for i in 1..BINS {
+            for a in 0..3 {
+                l[a] = l[a].union(self.boxes[i - 1][a]);
+                ls[a] += self.slots(i - 1, a);
+            }
+            let (left, right) = (Counts::of(ls), Counts::of(right_slots[i]));
+            let cost =
+                Vec4::from_array(half_areas4(&l)) * left.groups + right_area[i] * right.groups;
+            // A boundary after an empty bin costs the same as the one before it, which the
+            // strict comparison keeps.
+            let better = cost.cmplt(best) & spans & left.any & right.any;
+            best = Vec4::select(better, cost, best);
+            best_bin = Vec4::select(better, Vec4::splat(i as f32), best_bin);
+        }
+        let (best, best_bin) = (best.to_array(), best_bin.to_array());
+        let axis = (0..3).fold(0, |b, a| if best[a] < best[b] { a } else { b });
+        (best[axis] < f32::INFINITY).then_some(Choice {
+            axis,
+            bin: best_bin[axis] as usize,
+            cost: best[axis],
+        })
     }
 
-    /// The cheapest boundary over the axes the centroids span, if any.
-    fn choose(&self, scale: Vec3A, parent_area: f32) -> Option<Choice> {
-        let mut best: Option<Choice> = None;
-        for axis in 0..3 {
-            if scale[axis] == 0.0 {
-                continue;
-            }
-            let (boxes, counts) = (&self.boxes[axis], &self.slots[axis]);
-            // Sweep from the right to get the area and count right of each boundary.
-            // A boundary right after an empty bin costs the same as the one before it, which
-            // wins the strict comparison below, so only boundaries after a full bin are priced.
-            let mut right = [(0.0f32, 0u32); BINS];
-            let (mut rb, mut rc) = (Box3::EMPTY, 0);
-            for i in (1..BINS).rev() {
-                rb = rb.union(boxes[i]);
-                rc += counts[i];
-                if counts[i - 1] > 0 {
-                    right[i] = (rb.half_area(), rc);
-                }
-            }
-            let (mut lb, mut lc) = (Box3::EMPTY, 0);
-            for i in 1..BINS {
-                if counts[i - 1] == 0 {
-                    continue;
-                }
-                lb = lb.union(boxes[i - 1]);
-                lc += counts[i - 1];
-                let (ra, rc) = right[i];
-                if rc == 0 {
-                    continue;
-                }
-                let cost = TRAVERSAL_COST
-                    + (lb.half_area() * leaf_cost(lc) + ra * leaf_cost(rc)) / parent_area;
-                if best.as_ref().is_none_or(|b| cost < b.cost) {
-                    best = Some(Choice { axis, bin: i, cost });
-                }
-            }
-        }
-        best
+    /// The slots counted in bin `bin` of `axis`.
+    #[inline(always)]
+    fn slots(&self, bin: usize, axis: usize) -> u32 {
+        self.slots[bin][axis][0]
     }
 
     /// The bounds and slots of the two sides of `c`: the unions of their bins.
+    #[inline(always)]
     fn sides(&self, c: &Choice) -> ((Box3, u32), (Box3, u32)) {
-        let (boxes, slots) = (&self.boxes[c.axis], &self.slots[c.axis]);
-        let union = |bins: &[Box3]| bins.iter().fold(Box3::EMPTY, |a, &b| a.union(b));
-        (
-            (union(&boxes[..c.bin]), slots[..c.bin].iter().sum()),
-            (union(&boxes[c.bin..]), slots[c.bin..].iter().sum()),
-        )
+        let side = |bins: std::ops::Range<usize>| {
+            bins.fold((Box3::EMPTY, 0), |(b, s), i| {
+                (b.union(self.boxes[i][c.axis]), s + self.slots(i, c.axis))
+            })
+        };
+        (side(0..c.bin), side(c.bin..BINS))
     }
 }
 
 /// Moves the primitives satisfying `is_left` to the front (Hoare: each primitive is classified
 /// once, and only misplaced pairs move), gathering both sides' centroid bounds on the way.
+#[inline(always)]
 fn partition<'a>(
     span: Span<'a>,
     (left_bounds, left_slots): (Box3, u32),
@@ -155,36 +174,14 @@ fn partition<'a>(
             break;
         }
         // refs[i] belongs right and refs[j - 1] left.
-        refs.swap(i, j - 1);
-        ids.swap(i, j - 1);
-        lc = lc.grow(refs[i].centroid2());
-        rc = rc.grow(refs[j - 1].centroid2());
-        i += 1;
         j -= 1;
+        let (right, left) = (refs[i], refs[j]);
+        (refs[i], refs[j]) = (left, right);
+        ids.swap(i, j);
+        lc = lc.grow(left.centroid2());
+        rc = rc.grow(right.centroid2());
+        i += 1;
     }
     let left: Side = (left_bounds, lc, left_slots);
     span.cut(i, left, (right_bounds, rc, right_slots))
-}
-
-/// The bins of three scaled offsets (finite and >= 0, or NaN): truncated after clamping to the
-/// last bin (NaN clamps to it too), the same as truncating and then clamping.
-#[inline(always)]
-fn bin_indices(at: Vec3A) -> [u32; 4] {
-    let clamped = at.min(Vec3A::splat((BINS - 1) as f32));
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::*;
-        let mut out = [0u32; 4];
-        // SAFETY: SSE2 is part of the x86-64 baseline; `out` holds four u32.
-        unsafe {
-            let v = _mm_cvttps_epi32(clamped.into());
-            _mm_storeu_si128(out.as_mut_ptr().cast(), v);
-        }
-        out
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        let c = clamped.to_array();
-        [c[0] as u32, c[1] as u32, c[2] as u32, 0]
-    }
 }

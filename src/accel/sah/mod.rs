@@ -120,6 +120,8 @@ pub fn build(bounds: &[Aabb], slots: &[u8], opts: &BuildOptions) -> Bvh {
     };
     let builder = Builder {
         max_leaf: opts.max_leaf_size.max(1),
+        #[cfg(target_arch = "x86_64")]
+        avx2: std::arch::is_x86_feature_detected!("avx2"),
     };
     let tree = builder.subtree(span, 0, 0);
     Bvh::from_parts(tree.nodes, ids)
@@ -127,9 +129,25 @@ pub fn build(bounds: &[Aabb], slots: &[u8], opts: &BuildOptions) -> Bvh {
 
 struct Builder {
     max_leaf: usize,
+    /// The CPU has AVX2: splits are compiled for it (see [`Builder::split`]).
+    #[cfg(target_arch = "x86_64")]
+    avx2: bool,
 }
 
 impl Builder {
+    /// Splits `span`, or keeps it a leaf (`None`): swept when small, binned otherwise. The
+    /// splitting code is compiled twice, for the x86-64 baseline and for AVX2 (whose
+    /// three-operand instructions and 8-lane boxes take a quarter fewer instructions), and the
+    /// CPU picks.
+    fn split<'a>(&self, span: Span<'a>) -> Option<(Span<'a>, Span<'a>)> {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { split_avx2(span, self.max_leaf) };
+        }
+        split_any(span, self.max_leaf)
+    }
+
     /// Builds the subtree over `span`, whose primitives start at `offset` in the final order.
     fn subtree(&self, span: Span<'_>, offset: usize, depth: usize) -> Subtree {
         // About two nodes per leaf of three or four primitives.
@@ -155,12 +173,7 @@ impl Builder {
         if one_group || n <= 1 || depth + 1 >= MAX_DEPTH {
             return;
         }
-        let split = if n <= sweep::MAX_PRIMS {
-            sweep::split(span, self.max_leaf)
-        } else {
-            binned::split(span, self.max_leaf)
-        };
-        let Some((left, right)) = split else {
+        let Some((left, right)) = self.split(span) else {
             return;
         };
         let first = nodes.len();
@@ -179,6 +192,21 @@ impl Builder {
             self.fill(nodes, first, left, offset, depth + 1);
             self.fill(nodes, first + 1, right, offset + left_n, depth + 1);
         }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn split_avx2<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Span<'a>)> {
+    split_any(span, max_leaf)
+}
+
+#[inline(always)]
+fn split_any<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Span<'a>)> {
+    if span.len() <= sweep::MAX_PRIMS {
+        sweep::split(span, max_leaf)
+    } else {
+        binned::split(span, max_leaf)
     }
 }
 

@@ -1,106 +1,136 @@
 //! The split of a small node: its primitives sorted by centroid along each axis, and every
 //! boundary between them priced. Each split a binned pass could choose is one of these, so
 //! the node gets a split at least as cheap; and a handful of primitives cost less to sort
-//! than 48 bins cost to clear and sweep.
+//! than 48 bins cost to clear and sweep. The three axes are swept together, one SIMD lane
+//! each.
 
-use super::boxes::{Box3, Centroids, Ref};
+mod rank;
+
+use super::boxes::{Box3, Centroids, Ref, half_areas4};
 use super::{LEAF_ALIGN, Side, Span, TRAVERSAL_COST, leaf_cost};
+use crate::math::Vec4;
 
 /// Nodes of up to this many primitives are swept.
 pub(super) const MAX_PRIMS: usize = 16;
 
+/// `leaf_cost(k)` for the slots of up to [`MAX_PRIMS`] triangles.
+const GROUPS: [f32; MAX_PRIMS + 1] = {
+    let mut t = [0.0; MAX_PRIMS + 1];
+    let mut k = 0;
+    while k <= MAX_PRIMS {
+        t[k] = k.div_ceil(LEAF_ALIGN) as f32;
+        k += 1;
+    }
+    t
+};
+
 /// Splits at the cheapest boundary when that beats a leaf (or the node is too big to be one);
 /// `None` keeps the node a leaf.
+#[inline(always)]
 pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Span<'a>)> {
     let n = span.len();
     debug_assert!((2..=MAX_PRIMS).contains(&n));
-    let refs = &*span.refs;
-    let parent_area = span.bounds.half_area().max(f32::MIN_POSITIVE);
-    // The first boundary priced is taken even at an infinite or NaN cost (boxes too large for
-    // their areas to be finite): a node that must split still gets two non-empty sides.
-    let (mut best_cost, mut best_at) = (f32::NAN, 0);
-    let mut best_order = [0u8; MAX_PRIMS];
-    let mut order = [0u8; MAX_PRIMS];
-    // Per boundary k (the first k primitives go left): the right side's area and slots.
-    let mut right = [(0.0f32, 0u32); MAX_PRIMS];
-    for axis in 0..3 {
-        sort_along(refs, axis, &mut order[..n]);
-        let (mut rb, mut rs) = (Box3::EMPTY, 0);
-        for k in (1..n).rev() {
-            let r = &refs[order[k] as usize];
-            rb = rb.union(r.bounds());
-            rs += r.slots();
-            right[k] = (rb.half_area(), rs);
+    // A local copy: fixed size, so indexing it by a masked place needs no bounds check.
+    let mut refs = [Ref::EMPTY; MAX_PRIMS];
+    for (to, from) in refs.iter_mut().zip(span.refs.iter()) {
+        *to = *from;
+    }
+    let bounds = |k: u8| refs[k as usize & (MAX_PRIMS - 1)].bounds();
+    // order[axis][k]: the primitive k-th by centroid along axis.
+    let order = rank::sorted(&refs[..n]);
+    // Per boundary k (the first k primitives go left), one lane per axis: the areas of both
+    // sides.
+    let mut left_area = [Vec4::ZERO; MAX_PRIMS];
+    let mut right_area = [Vec4::ZERO; MAX_PRIMS];
+    let mut side = [Box3::EMPTY; 4];
+    for k in 1..n {
+        for a in 0..3 {
+            side[a] = side[a].union(bounds(order[a][k - 1]));
         }
-        let (mut lb, mut ls) = (Box3::EMPTY, 0);
-        let mut improved = false;
+        left_area[k] = Vec4::from_array(half_areas4(&side));
+    }
+    side = [Box3::EMPTY; 4];
+    for k in (1..n).rev() {
+        for a in 0..3 {
+            side[a] = side[a].union(bounds(order[a][k]));
+        }
+        right_area[k] = Vec4::from_array(half_areas4(&side));
+    }
+    // The best boundary per axis (0: none yet) and its cost: areas weighted by leaf costs,
+    // before the parent's area and the traversal are accounted for (the same for all).
+    let (mut best, mut best_at) = (Vec4::INFINITY, Vec4::ZERO);
+    let mut price = |k: usize, groups_left: Vec4, groups_right: Vec4| {
+        let cost = left_area[k] * groups_left + right_area[k] * groups_right;
+        let better = cost.cmplt(best);
+        best = Vec4::select(better, cost, best);
+        best_at = Vec4::select(better, Vec4::splat(k as f32), best_at);
+    };
+    if span.slots == n as u32 {
+        // Triangles only: k slots on the left.
         for k in 1..n {
-            let r = &refs[order[k - 1] as usize];
-            lb = lb.union(r.bounds());
-            ls += r.slots();
-            let (ra, rs) = right[k];
-            let cost = TRAVERSAL_COST
-                + (lb.half_area() * leaf_cost(ls) + ra * leaf_cost(rs)) / parent_area;
-            if cost < best_cost || best_at == 0 {
-                (best_cost, best_at, improved) = (cost, k, true);
-            }
+            price(k, Vec4::splat(GROUPS[k]), Vec4::splat(GROUPS[n - k]));
         }
-        if improved {
-            best_order = order;
+    } else {
+        let mut slots = [0u32; 3];
+        for k in 1..n {
+            let mut groups = [[0.0; 4]; 2];
+            for a in 0..3 {
+                slots[a] += refs[order[a][k - 1] as usize].slots();
+                groups[0][a] = leaf_cost(slots[a]);
+                groups[1][a] = leaf_cost(span.slots - slots[a]);
+            }
+            price(k, Vec4::from_array(groups[0]), Vec4::from_array(groups[1]));
         }
     }
-    if !(best_cost < leaf_cost(span.slots) || n > max_leaf) {
+    let (best, best_at) = (best.to_array(), best_at.to_array());
+    // Ties to the lower axis.
+    let axis = (0..3).fold(0, |b, a| if best[a] < best[b] { a } else { b });
+    let at = best_at[axis] as usize;
+    if at == 0 {
+        // No finite cost (boxes too large for their areas to be finite): any split will do
+        // for a node that must be split.
+        let identity = std::array::from_fn(|k| k as u8);
+        return (n > max_leaf).then(|| apply(span, &refs, &identity, n / 2));
+    }
+    let parent_area = span.bounds.half_area().max(f32::MIN_POSITIVE);
+    let cost = TRAVERSAL_COST + best[axis] / parent_area;
+    if !(cost < leaf_cost(span.slots) || n > max_leaf) {
         return None;
     }
-    Some(apply(span, &best_order[..n], best_at))
+    Some(apply(span, &refs, &order[axis], at))
 }
 
-/// Reorders the span's primitives to `order` and cuts it after the first `at`.
-fn apply<'a>(span: Span<'a>, order: &[u8], at: usize) -> (Span<'a>, Span<'a>) {
-    let n = order.len();
-    let mut refs = [span.refs[0]; MAX_PRIMS];
-    let mut ids = [0u32; MAX_PRIMS];
-    refs[..n].copy_from_slice(span.refs);
-    ids[..n].copy_from_slice(span.ids);
-    let mut sides: [Side; 2] = [(Box3::EMPTY, Centroids::EMPTY, 0); 2];
-    for (k, &o) in order.iter().enumerate() {
-        let r = refs[o as usize];
-        span.refs[k] = r;
-        span.ids[k] = ids[o as usize];
-        let (b, c, s) = &mut sides[(k >= at) as usize];
-        (*b, *c, *s) = (b.union(r.bounds()), c.grow(r.centroid2()), *s + r.slots());
-    }
-    span.cut(at, sides[0], sides[1])
-}
-
-/// Fills `order` with the indices of `refs` sorted by centroid along `axis` (ties in index
-/// order, so the result depends only on the primitives' order).
-fn sort_along(refs: &[Ref], axis: usize, order: &mut [u8]) {
-    let mut keys = [0u64; MAX_PRIMS];
-    for (k, r) in refs.iter().enumerate() {
-        keys[k] = (ordered(r.centroid2_on(axis)) as u64) << 32 | k as u64;
-    }
-    let keys = &mut keys[..refs.len()];
-    // Insertion sort: a few comparisons for the handful of keys here.
-    for i in 1..keys.len() {
-        let key = keys[i];
-        let mut j = i;
-        while j > 0 && keys[j - 1] > key {
-            keys[j] = keys[j - 1];
-            j -= 1;
-        }
-        keys[j] = key;
-    }
-    for (o, k) in order.iter_mut().zip(keys.iter()) {
-        *o = *k as u8;
-    }
-}
-
-/// The bits of `x` as an unsigned integer in the order of the floats (negatives reversed).
+/// Reorders the span's primitives (a copy of whose boxes is `refs`) to `order` and cuts it
+/// after the first `at`.
 #[inline(always)]
-fn ordered(x: f32) -> u32 {
-    let b = x.to_bits();
-    if b >> 31 == 1 { !b } else { b | 1 << 31 }
+fn apply<'a>(
+    span: Span<'a>,
+    refs: &[Ref; MAX_PRIMS],
+    order: &[u8; MAX_PRIMS],
+    at: usize,
+) -> (Span<'a>, Span<'a>) {
+    let n = span.len();
+    let mut ids = [0u32; MAX_PRIMS];
+    for (to, from) in ids.iter_mut().zip(span.ids.iter()) {
+        *to = *from;
+    }
+    let mut side = |range: std::ops::Range<usize>| {
+        let mut s: Side = (Box3::EMPTY, Centroids::EMPTY, 0);
+        for k in range {
+            let o = order[k] as usize & (MAX_PRIMS - 1);
+            let r = refs[o];
+            span.refs[k] = r;
+            span.ids[k] = ids[o];
+            s = (
+                s.0.union(r.bounds()),
+                s.1.grow(r.centroid2()),
+                s.2 + r.slots(),
+            );
+        }
+        s
+    };
+    let (left, right) = (side(0..at), side(at..n));
+    span.cut(at, left, right)
 }
 
 const _: () = assert!(MAX_PRIMS <= u8::MAX as usize && MAX_PRIMS > LEAF_ALIGN);
