@@ -50,7 +50,11 @@ fn main() {
         binary_cost(&binary),
         wide.nodes().len(),
     );
-    println!("tree_fingerprint {:016x}", fingerprint(&binary));
+    println!(
+        "tree_fingerprint {:016x} wide_fingerprint {:016x}",
+        fingerprint(&binary),
+        wide_fingerprint(wide)
+    );
 }
 
 /// A hash of the tree's nodes as a set of (bounds, sorted leaf primitives): equal for the same
@@ -100,4 +104,14 @@ fn binary_cost(b: &Bvh) -> f64 {
             c * area(&n.bounds) / root
         })
         .sum()
+}
+
+/// A hash of the wide nodes (their debug text) and the primitive order: equal for the same
+/// wide tree in the same layout.
+fn wide_fingerprint(w: &lumis::accel::Wide8) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    format!("{:?}", w.nodes()).hash(&mut h);
+    w.prim_order().hash(&mut h);
+    h.finish()
 }
