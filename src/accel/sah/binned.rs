@@ -82,8 +82,18 @@ pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Sp
     let (lo, s) = (cb.min.to_array()[c.axis], scale.to_array()[c.axis]);
     // `bin_index(x) < bin` is `x < bin` for the offsets `x >= 0` (or NaN) binned here.
     let threshold = c.bin as f32;
-    let is_left = |r: &Ref| (r.centroid2_on(c.axis) - lo) * s < threshold;
-    Some(partition(span, left, right, is_left))
+    // One loop per axis, so the coordinate read is fixed at compile time.
+    Some(match c.axis {
+        0 => partition(span, left, right, |r| {
+            (r.centroid2_on(0) - lo) * s < threshold
+        }),
+        1 => partition(span, left, right, |r| {
+            (r.centroid2_on(1) - lo) * s < threshold
+        }),
+        _ => partition(span, left, right, |r| {
+            (r.centroid2_on(2) - lo) * s < threshold
+        }),
+    })
 }
 
 impl Bins {

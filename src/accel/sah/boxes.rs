@@ -84,7 +84,11 @@ impl Ref {
     /// [`Ref::centroid2`] along one axis (the same sum, so the same rounding).
     #[inline(always)]
     pub fn centroid2_on(&self, axis: usize) -> f32 {
-        self.min.to_array()[axis] - self.neg_max.to_array()[axis]
+        match axis {
+            0 => self.min.x - self.neg_max.x,
+            1 => self.min.y - self.neg_max.y,
+            _ => self.min.z - self.neg_max.z,
+        }
     }
 
     /// The group lanes the primitive's test fills.

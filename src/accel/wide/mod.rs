@@ -103,8 +103,9 @@ impl<const W: usize> WideBvh<W> {
         };
         let bin = binary.nodes();
         let mut wide = Self {
-            nodes: Vec::new(),
-            shapes: Vec::new(),
+            // About one wide node per three or four binary interior nodes (half the nodes).
+            nodes: Vec::with_capacity(bin.len() / 6 + 1),
+            shapes: Vec::with_capacity(bin.len() / 6 + 1),
             prim_order: Vec::with_capacity(binary.prim_order().len() * 5 / 4),
             bounds: bin.first().map_or(Aabb::EMPTY, |n| n.bounds),
         };
