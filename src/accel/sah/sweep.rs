@@ -133,4 +133,6 @@ fn apply<'a>(
     span.cut(at, left, right)
 }
 
-const _: () = assert!(MAX_PRIMS <= u8::MAX as usize && MAX_PRIMS > LEAF_ALIGN);
+// Places and indices are masked with `MAX_PRIMS - 1` to skip bounds checks.
+const _: () =
+    assert!(MAX_PRIMS.is_power_of_two() && MAX_PRIMS <= u8::MAX as usize && MAX_PRIMS > LEAF_ALIGN);
