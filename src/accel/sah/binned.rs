@@ -54,16 +54,7 @@ struct Choice {
 pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Span<'a>)> {
     let n = span.len();
     let cb = span.centroids;
-    let extent = cb.max - cb.min;
-    // Bins per unit along each axis; 0 for an axis the centroids do not span.
-    // (An extent so small that BINS / extent overflows counts as none: the offsets below
-    // must stay finite.)
-    let per_unit = Vec3A::splat(BINS as f32) / extent;
-    let scale = Vec3A::select(
-        extent.cmpgt(Vec3A::ZERO) & per_unit.is_finite_mask(),
-        per_unit,
-        Vec3A::ZERO,
-    );
+    let scale = scale_of(&cb);
     let mut bins = Bins {
         boxes: [[Box3::EMPTY; 4]; BINS],
         slots: [[[0; 2]; 4]; BINS],
@@ -94,6 +85,45 @@ pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Sp
             (r.centroid2_on(2) - lo) * s < threshold
         }),
     })
+}
+
+/// Bins per unit along each axis; 0 for an axis the centroids do not span. (An extent so
+/// small that `BINS / extent` overflows counts as none: the offsets binned must stay finite.)
+#[inline(always)]
+pub(super) fn scale_of(cb: &Centroids) -> Vec3A {
+    let extent = cb.max - cb.min;
+    let per_unit = Vec3A::splat(BINS as f32) / extent;
+    Vec3A::select(
+        extent.cmpgt(Vec3A::ZERO) & per_unit.is_finite_mask(),
+        per_unit,
+        Vec3A::ZERO,
+    )
+}
+
+/// The bin of each axis of a centroid (lane 3: 0), for the node's centroid bounds starting at
+/// `offset` and `scale` ([`scale_of`]): the bins [`gather`] counts it in.
+#[inline(always)]
+pub(super) fn bin_of(centroid: Vec3A, offset: Vec3A, scale: Vec3A) -> [i32; 4] {
+    let at = (centroid - offset) * scale;
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        let clamped = at.min(Vec3A::splat((BINS - 1) as f32));
+        // SAFETY: SSE2 is part of the x86-64 baseline; truncating the clamped offsets (in
+        // 0..16) gives the bins `gather::bin_indices` gives.
+        unsafe {
+            let bins = _mm_and_si128(_mm_cvttps_epi32(clamped.into()), _mm_set1_epi32(15));
+            std::mem::transmute::<__m128i, [i32; 4]>(_mm_and_si128(
+                bins,
+                _mm_setr_epi32(-1, -1, -1, 0),
+            ))
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let [x, y, z] = gather::bin_indices(at);
+        [x as i32, y as i32, z as i32, 0]
+    }
 }
 
 impl Bins {

@@ -1,14 +1,16 @@
-//! The split of a small node: its primitives sorted by centroid along each axis, and every
-//! boundary between them priced. Each split a binned pass could choose is one of these, so
-//! the node gets a split at least as cheap; and a handful of primitives cost less to sort
-//! than 48 bins cost to clear and sweep. The three axes are swept together, one SIMD lane
-//! each.
+//! The split of a small node, the one binning would choose, found without bins: the
+//! primitives sorted by bin along each axis, and each boundary between two bins priced. The
+//! sides of a boundary hold the primitives of the bins either side of it, so their boxes,
+//! slots and cost are those the bins give, and so is the choice (the lowest axis, then the
+//! lowest boundary, of the cheapest); but a handful of primitives cost less to sort than 48
+//! bins cost to clear and sweep. The three axes are swept together, one SIMD lane each.
 
 mod rank;
 
 use super::boxes::{Box3, Centroids, Ref, half_areas4};
-use super::{LEAF_ALIGN, Side, Span, TRAVERSAL_COST, leaf_cost};
+use super::{LEAF_ALIGN, Side, Span, TRAVERSAL_COST, binned, leaf_cost};
 use crate::math::Vec4;
+use glam::BVec4A;
 
 /// Nodes of up to this many primitives are swept.
 pub(super) const MAX_PRIMS: usize = 16;
@@ -36,8 +38,22 @@ pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Sp
         *to = *from;
     }
     let bounds = |k: u8| refs[k as usize & (MAX_PRIMS - 1)].bounds();
-    // order[axis][k]: the primitive k-th by centroid along axis.
-    let order = rank::sorted(&refs[..n]);
+    let (offset, scale) = (span.centroids.min, binned::scale_of(&span.centroids));
+    let mut bins = [[0i32; 4]; MAX_PRIMS];
+    for (b, r) in bins.iter_mut().zip(&refs[..n]) {
+        *b = binned::bin_of(r.centroid2(), offset, scale);
+    }
+    // order[axis][k]: the primitive k-th by bin along axis.
+    let order = rank::sorted(&bins[..n]);
+    let bin = |a: usize, k: usize| bins[order[a][k] as usize & (MAX_PRIMS - 1)][a];
+    let s = scale.to_array();
+    let spans = [s[0] > 0.0, s[1] > 0.0, s[2] > 0.0, false];
+    // Per boundary k, the axes on which it lies between two bins (inside one, binning sees
+    // no boundary).
+    let mut between = [[false; 4]; MAX_PRIMS];
+    for (k, between) in between.iter_mut().enumerate().take(n).skip(1) {
+        *between = std::array::from_fn(|a| a < 3 && spans[a] && bin(a, k - 1) != bin(a, k));
+    }
     // Per boundary k (the first k primitives go left), one lane per axis: the areas of both
     // sides.
     let mut left_area = [Vec4::ZERO; MAX_PRIMS];
@@ -61,7 +77,7 @@ pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Sp
     let (mut best, mut best_at) = (Vec4::INFINITY, Vec4::ZERO);
     let mut price = |k: usize, groups_left: Vec4, groups_right: Vec4| {
         let cost = left_area[k] * groups_left + right_area[k] * groups_right;
-        let better = cost.cmplt(best);
+        let better = cost.cmplt(best) & BVec4A::from_array(between[k]);
         best = Vec4::select(better, cost, best);
         best_at = Vec4::select(better, Vec4::splat(k as f32), best_at);
     };
@@ -87,10 +103,8 @@ pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Sp
     let axis = (0..3).fold(0, |b, a| if best[a] < best[b] { a } else { b });
     let at = best_at[axis] as usize;
     if at == 0 {
-        // No finite cost (boxes too large for their areas to be finite): any split will do
-        // for a node that must be split.
-        let identity = std::array::from_fn(|k| k as u8);
-        return (n > max_leaf).then(|| apply(span, &refs, &identity, n / 2));
+        // No boundary with a finite cost: halve by index, as binning does.
+        return (n > max_leaf).then(|| span.cut_scanning(n / 2));
     }
     let parent_area = span.bounds.half_area().max(f32::MIN_POSITIVE);
     let cost = TRAVERSAL_COST + best[axis] / parent_area;

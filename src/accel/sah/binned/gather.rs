@@ -31,7 +31,7 @@ pub(super) fn gather(bins: &mut Bins, refs: &[Ref], uniform: bool, offset: Vec3A
 /// The bin of each axis: the scaled offset (finite and >= 0, or NaN) clamped to the last bin
 /// (NaN clamps to it too), then truncated.
 #[inline(always)]
-fn bin_indices(at: Vec3A) -> [usize; 3] {
+pub(super) fn bin_indices(at: Vec3A) -> [usize; 3] {
     at.min(Vec3A::splat((BINS - 1) as f32))
         .to_array()
         .map(|x| x as usize & (BINS - 1))
