@@ -51,7 +51,7 @@ pub(super) fn split<'a>(span: Span<'a>, max_leaf: usize) -> Option<(Span<'a>, Sp
     // Per boundary k, the axes on which it lies between two bins (inside one, binning sees
     // no boundary).
     let mut between = [[false; 4]; MAX_PRIMS];
-    for (k, between) in between.iter_mut().enumerate().take(n).skip(1) {
+    for (k, between) in (1..n).zip(&mut between[1..]) {
         *between = std::array::from_fn(|a| a < 3 && spans[a] && bin(a, k - 1) != bin(a, k));
     }
     // Per boundary k (the first k primitives go left), one lane per axis: the areas of both
