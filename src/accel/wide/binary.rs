@@ -6,6 +6,7 @@
 //! numbered in the order their 0 bits appear, which is the order [`shape_of`] gives them in.
 //! A subtree with `W <= 8` lanes has `W - 1` interior nodes, so `2W - 1 <= 15` bits.
 
+use super::lanes::Lanes;
 use super::{WideBvh, WideNode};
 use crate::accel::bvh::{Bvh, Node};
 use crate::math::Aabb;
@@ -15,20 +16,24 @@ pub(super) const SINGLE_LANE: u16 = 0;
 
 /// The shape of the binary subtree at `root` in which the nodes `opened` were opened, and its
 /// lanes (binary node indices) in left-to-right order.
-pub(super) fn shape_of(bin: &[Node], root: u32, opened: &[u32]) -> (u16, Vec<u32>) {
-    let (mut shape, mut bit, mut lanes) = (0u16, 0, Vec::new());
-    let mut stack = vec![root];
+pub(super) fn shape_of(bin: &[Node], root: u32, opened: &[u32]) -> (u16, Lanes<u32>) {
+    let (mut shape, mut bit) = (0u16, 0);
+    let mut lanes: Option<Lanes<u32>> = None;
+    let mut stack = Lanes::new(root);
     while let Some(n) = stack.pop() {
         if opened.contains(&n) {
             shape |= 1 << bit;
             let first = bin[n as usize].first;
-            stack.extend([first + 1, first]);
+            stack.push(first + 1);
+            stack.push(first);
+        } else if let Some(l) = &mut lanes {
+            l.push(n);
         } else {
-            lanes.push(n);
+            lanes = Some(Lanes::new(n));
         }
         bit += 1;
     }
-    (shape, lanes)
+    (shape, lanes.expect("a subtree has a lane"))
 }
 
 impl<const W: usize> WideBvh<W> {

@@ -11,10 +11,12 @@
 
 mod binary;
 mod child_test;
+mod lanes;
 mod traverse;
 
 use super::bvh::{Bvh, MAX_DEPTH, Node, each_once, leaf_content};
 use crate::math::{Aabb, Vec3};
+use lanes::Lanes;
 
 /// Marks an unused child lane in [`WideNode::count`].
 pub(crate) const EMPTY_LANE: u32 = u32::MAX;
@@ -101,8 +103,9 @@ impl<const W: usize> WideBvh<W> {
         };
         let bin = binary.nodes();
         let mut wide = Self {
-            nodes: Vec::new(),
-            shapes: Vec::new(),
+            // About one wide node per three or four binary interior nodes (half the nodes).
+            nodes: Vec::with_capacity(bin.len() / 6 + 1),
+            shapes: Vec::with_capacity(bin.len() / 6 + 1),
             prim_order: Vec::with_capacity(binary.prim_order().len() * 5 / 4),
             bounds: bin.first().map_or(Aabb::EMPTY, |n| n.bounds),
         };
@@ -128,7 +131,11 @@ impl<const W: usize> WideBvh<W> {
     fn place_leaf(&mut self, binary: &Bvh, leaf: &Node) -> u32 {
         let aligned = self.prim_order.len().next_multiple_of(LEAF_ALIGN);
         self.prim_order.resize(aligned, PADDING);
-        self.prim_order.extend_from_slice(binary.leaf_prims(leaf));
+        // A loop, not a slice copy: leaves hold a handful of primitives, fewer than a call
+        // to `memcpy` costs.
+        for &p in binary.leaf_prims(leaf) {
+            self.prim_order.push(p);
+        }
         aligned as u32
     }
 
@@ -138,30 +145,42 @@ impl<const W: usize> WideBvh<W> {
         let at = self.nodes.len();
         self.nodes.push(WideNode::UNUSED);
         self.shapes.push(0);
-        // Open binary nodes, largest area first, while the lanes they leave fit.
-        let mut opened = vec![index];
+        // Open binary nodes, largest area first, while the lanes they leave fit. Each kid
+        // carries its area (0 for a leaf, which is never opened), computed once.
+        let mut opened = Lanes::new(index);
+        let kid = |k: u32| {
+            let n = &bin[k as usize];
+            let area = if n.is_leaf() {
+                None
+            } else {
+                Some(n.bounds.surface_area())
+            };
+            (k, area)
+        };
         let first = bin[index as usize].first;
-        let mut kids = vec![first, first + 1];
+        let mut kids = Lanes::new(kid(first));
+        kids.push(kid(first + 1));
         while kids.len() < W {
-            let widest = kids
-                .iter()
-                .enumerate()
-                .filter(|(_, k)| !bin[**k as usize].is_leaf())
-                .max_by(|a, b| {
-                    let area = |k: u32| bin[k as usize].bounds.surface_area();
-                    area(*a.1).total_cmp(&area(*b.1))
-                })
-                .map(|(i, _)| i);
-            let Some(i) = widest else { break };
-            let open = kids.swap_remove(i);
+            // The widest interior kid; of equal ones the last, as `max_by` picks.
+            let mut widest: Option<(usize, f32)> = None;
+            for (i, &(_, area)) in kids.iter().enumerate() {
+                if let Some(a) = area
+                    && widest.is_none_or(|(_, w)| a.total_cmp(&w).is_ge())
+                {
+                    widest = Some((i, a));
+                }
+            }
+            let Some((i, _)) = widest else { break };
+            let (open, _) = kids.swap_remove(i);
             opened.push(open);
             let f = bin[open as usize].first;
-            kids.extend([f, f + 1]);
+            kids.push(kid(f));
+            kids.push(kid(f + 1));
         }
         // Lanes in the binary subtree's left-to-right order, and its shape.
-        let (shape, lanes) = binary::shape_of(bin, index, &opened);
+        let (shape, lanes) = binary::shape_of(bin, index, opened.as_slice());
         self.shapes[at] = shape;
-        for (lane, &k) in lanes.iter().enumerate() {
+        for (lane, &k) in lanes.as_slice().iter().enumerate() {
             let n = &bin[k as usize];
             let (child, count) = if n.is_leaf() {
                 (self.place_leaf(binary, n), n.count)

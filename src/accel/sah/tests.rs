@@ -1,0 +1,123 @@
+use super::*;
+use crate::math::Vec3;
+
+/// Four unit boxes in a row, two units apart.
+fn row_of_four() -> Vec<Aabb> {
+    (0..4)
+        .map(|i| {
+            let x = 3.0 * i as f32;
+            Aabb::new(Vec3::new(x, 0.0, 0.0), Vec3::new(x + 1.0, 1.0, 1.0))
+        })
+        .collect()
+}
+
+/// Seeded boxes scattered over a cube, some tiny, some long.
+fn boxes(n: usize, seed: u64) -> Vec<Aabb> {
+    let mut s = 0x9e37_79b9_7f4a_7c15u64 ^ seed;
+    let mut next = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 40) as f32 / (1u64 << 24) as f32
+    };
+    (0..n)
+        .map(|_| {
+            let c = Vec3::new(next(), next(), next()) * 100.0;
+            let e = Vec3::new(next(), next(), next()) * next() * 10.0;
+            Aabb::new(c - e, c + e)
+        })
+        .collect()
+}
+
+#[test]
+fn primitives_tested_alone_are_not_priced_as_sharing_a_group() {
+    let bounds = row_of_four();
+    let opts = BuildOptions { max_leaf_size: 4 };
+    // Four triangles cost one group test together: one leaf.
+    let shared = build(&bounds, &[SHARED_SLOTS; 4], &opts);
+    assert_eq!(shared.nodes().len(), 1);
+    assert_eq!(build(&bounds, &[], &opts).nodes(), shared.nodes());
+    // Four spheres cost four tests together: split until each stands alone.
+    let alone = build(&bounds, &[ALONE_SLOTS; 4], &opts);
+    let leaves: Vec<u32> = alone
+        .nodes()
+        .iter()
+        .filter(|n| n.is_leaf())
+        .map(|n| n.count)
+        .collect();
+    assert_eq!(leaves, [1, 1, 1, 1]);
+}
+
+/// Trees over scattered, coincident, flat and huge boxes, triangles and spheres mixed, with
+/// small and large leaves: all valid, leaves within the size limit.
+#[test]
+fn trees_are_valid_for_assorted_inputs() {
+    let same = vec![Aabb::new(Vec3::ONE, Vec3::splat(2.0)); 300];
+    let flat: Vec<Aabb> = boxes(500, 3)
+        .into_iter()
+        .map(|b| Aabb::new(b.min.with_z(1.0), b.max.with_z(1.0)))
+        .collect();
+    let huge: Vec<Aabb> = boxes(400, 5)
+        .into_iter()
+        .map(|b| Aabb::new(b.min * 3e36, b.max * 3e36))
+        .collect();
+    let tiny: Vec<Aabb> = boxes(400, 7)
+        .into_iter()
+        .map(|b| Aabb::new(b.min * 1e-38, b.max * 1e-38))
+        .collect();
+    for bounds in [
+        boxes(1, 1),
+        boxes(5, 1),
+        boxes(3000, 2),
+        same,
+        flat,
+        huge,
+        tiny,
+    ] {
+        let mixed: Vec<u8> = (0..bounds.len())
+            .map(|i| {
+                if i % 7 == 0 {
+                    ALONE_SLOTS
+                } else {
+                    SHARED_SLOTS
+                }
+            })
+            .collect();
+        for leaf in [1, 4, 20] {
+            let opts = BuildOptions {
+                max_leaf_size: leaf,
+            };
+            for slots in [&[][..], &mixed] {
+                let bvh = build(&bounds, slots, &opts);
+                let case = (bounds.len(), bounds[0], leaf, slots.len());
+                bvh.validate(&bounds)
+                    .unwrap_or_else(|e| panic!("{case:?}: {e}"));
+                let biggest = bvh.nodes().iter().map(|n| n.count).max().unwrap();
+                assert!(
+                    biggest as usize <= leaf.max(1),
+                    "leaf of {biggest} > {leaf}"
+                );
+            }
+        }
+    }
+}
+
+/// The parallel halves are built as separate subtrees whatever the pool, so one thread and
+/// several give the same nodes in the same order.
+#[test]
+fn the_tree_does_not_depend_on_the_thread_count() {
+    let bounds = boxes(3 * PARALLEL_MIN, 11);
+    let opts = BuildOptions::default();
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| build(&bounds, &[], &opts))
+    };
+    let one = on(1);
+    one.validate(&bounds).unwrap();
+    let three = on(3);
+    assert_eq!(one.nodes(), three.nodes());
+    assert_eq!(one.prim_order(), three.prim_order());
+}
