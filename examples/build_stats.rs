@@ -13,7 +13,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let path = args.get(1).expect("usage: build_stats SCENE [RUNS]");
     let runs: usize = args.get(2).map_or(9, |r| r.parse().expect("RUNS"));
-    let scene = lumis::scene::load(std::path::Path::new(path)).expect("scene");
+    let scene = lumis::formats::load(std::path::Path::new(path)).expect("scene");
     let geometry = scene.geometry();
     let opts = BuildOptions::default();
     let threads: usize =

@@ -67,7 +67,7 @@ pub fn run_paper(args: &PaperArgs) -> Result<()> {
     }
     let mut rows = Vec::new();
     for file in &files {
-        let mut scene = lumis::scene::load(file)?;
+        let mut scene = lumis::formats::load(file)?;
         // The paper's settings: 1 sample per pixel, 5 depth-of-field rays (the loader's defaults).
         let st = scene.settings_mut();
         (st.width, st.height, st.spp, st.lens_samples) = (w, h, 1, 5);
@@ -180,7 +180,7 @@ fn load_in_child(exe: &Path, file: &Path) -> Result<(f64, u64)> {
 /// `bench load-one FILE`: loads one file and prints "seconds peak_bytes".
 pub fn run_load_one(file: &Path) -> Result<()> {
     let start = std::time::Instant::now();
-    let scene = lumis::scene::load(file)?;
+    let scene = lumis::formats::load(file)?;
     let seconds = start.elapsed().as_secs_f64();
     std::hint::black_box(&scene);
     println!(
@@ -313,14 +313,14 @@ pub struct EffectsArgs {
 pub fn run_effects(args: &EffectsArgs) -> Result<()> {
     let mut scenes: Vec<(String, lumis::scene::Scene)> = Vec::new();
     if args.scenes.is_empty() {
-        scenes.push(("default".into(), lumis::scene::default_scene()?));
+        scenes.push(("default".into(), lumis::formats::default_scene()?));
         for f in table_i_files(&args.paper_scenes) {
-            scenes.push((file_name(&f), lumis::scene::load(&f)?));
+            scenes.push((file_name(&f), lumis::formats::load(&f)?));
         }
     } else {
         for f in &args.scenes {
             let scene =
-                lumis::scene::load(f).with_context(|| format!("loading {}", f.display()))?;
+                lumis::formats::load(f).with_context(|| format!("loading {}", f.display()))?;
             scenes.push((file_name(f), scene));
         }
     }

@@ -59,7 +59,7 @@ pub struct HitsArgs {
 pub fn run_hits(args: &HitsArgs) -> Result<()> {
     let accel_kind = args.accel.validated()?;
     let start = Instant::now();
-    let mut scene = lumis::scene::load(&args.scene)?;
+    let mut scene = lumis::formats::load(&args.scene)?;
     args.accuracy.apply(scene.settings_mut())?;
     scene
         .settings()

@@ -8,7 +8,7 @@ use std::path::Path;
 
 /// Loads `path` and prints its contents.
 pub fn run_info(path: &Path) -> Result<()> {
-    let scene = lumis::scene::load(path)?;
+    let scene = lumis::formats::load(path)?;
     print!("{}", describe(path, &scene));
     Ok(())
 }

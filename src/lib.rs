@@ -1,6 +1,6 @@
 //! lumis: an offline Whitted-style ray tracer.
 //!
-//! The data flows one way: a scene file is loaded into a [`scene::Scene`], an
+//! The data flows one way: a scene file is loaded by [`formats::load`] into a [`scene::Scene`], an
 //! [`accel::Accel`] is built over its primitives' bounding boxes, [`render::render`] traces
 //! camera rays through an integrator into a [`film::Film`], and [`output`] writes it.
 
@@ -12,6 +12,7 @@ pub mod bench_load;
 pub mod camera;
 pub mod effects;
 pub mod film;
+pub mod formats;
 pub mod geometry;
 pub mod hits;
 pub mod integrator;

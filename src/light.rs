@@ -16,6 +16,10 @@
 
 use crate::math::Vec3;
 
+/// Lumens per watt: the luminous efficacy of 555 nm light, which defines the candela. glTF
+/// light intensities are photometric (candela, lux); lumis's are radiometric (W/sr, W/m^2).
+pub const LUMENS_PER_WATT: f32 = 683.0;
+
 /// A light that casts hard shadows.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Light {

@@ -165,9 +165,9 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     let mut times = PhaseTimes::default();
     let t = Instant::now();
     let mut scene = match &args.scene {
-        Some(path) => lumis::scene::load_with(
+        Some(path) => lumis::formats::load_with(
             path,
-            &lumis::scene::GltfOptions {
+            &lumis::formats::LoadOptions {
                 scene: args.gltf_scene,
                 camera: args.camera,
                 up: args.up.unwrap_or_default(),
@@ -181,7 +181,7 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         {
             bail!("--gltf-scene, --camera, --up and --auto-camera need a model file")
         }
-        None => lumis::scene::default_scene().context("loading the built-in default scene")?,
+        None => lumis::formats::default_scene().context("loading the built-in default scene")?,
     };
     if !args.quiet {
         for w in scene.warnings() {

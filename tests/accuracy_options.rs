@@ -3,10 +3,11 @@
 //! origins, cutoff cuts reflection branches (and 0 changes nothing).
 
 use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::formats::toml::load_toml_str;
 use lumis::geometry::{Offset, Precision};
 use lumis::hits::{spawn_rows, trace_rays};
 use lumis::render::{RenderOptions, render};
-use lumis::scene::{Scene, load_toml_str};
+use lumis::scene::Scene;
 use std::path::Path;
 use std::process::Command;
 

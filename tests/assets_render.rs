@@ -18,7 +18,7 @@ fn every_asset_loads_and_renders() {
     );
     for file in files {
         let mut scene =
-            lumis::scene::load(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+            lumis::formats::load(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         let st = scene.settings_mut();
         (st.width, st.height, st.spp) = (24, 16, 1);
         let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());

@@ -9,8 +9,8 @@ fn generated_obj_and_glb_load_with_the_same_geometry() {
     let (obj, glb) = (dir.path().join("g.obj"), dir.path().join("g.glb"));
     write_obj(&obj, 20).unwrap();
     write_glb(&glb, 20).unwrap();
-    let a = lumis::scene::load(&obj).unwrap();
-    let b = lumis::scene::load(&glb).unwrap();
+    let a = lumis::formats::load(&obj).unwrap();
+    let b = lumis::formats::load(&glb).unwrap();
     let tris = |s: &lumis::scene::Scene| {
         s.geometry()
             .meshes()

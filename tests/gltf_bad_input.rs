@@ -13,7 +13,7 @@ fn bad(name: &str) -> PathBuf {
 
 /// The whole error chain of loading `name`, which must fail.
 fn error_of(name: &str) -> String {
-    match lumis::scene::load(&bad(name)) {
+    match lumis::formats::load(&bad(name)) {
         Ok(_) => panic!("{name} loaded"),
         Err(e) => format!("{:#}", anyhow::Error::from(e)),
     }
@@ -113,7 +113,7 @@ fn arbitrary_truncations_and_byte_flips_never_panic() {
         std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/gltf/cube.glb")).unwrap();
     let origin = Path::new("fuzz.glb");
     let no_files = |_: &Path| Err(std::io::Error::other("no files here"));
-    let options = lumis::scene::GltfOptions::default();
+    let options = lumis::formats::LoadOptions::default();
     let mut variants: Vec<Vec<u8>> = (0..glb.len())
         .step_by(7)
         .map(|n| glb[..n].to_vec())
@@ -126,7 +126,7 @@ fn arbitrary_truncations_and_byte_flips_never_panic() {
         }
     }
     for (k, bytes) in variants.iter().enumerate() {
-        if let Err(e) = lumis::scene::load_gltf_bytes(bytes, origin, &no_files, &options) {
+        if let Err(e) = lumis::formats::gltf::load_gltf_bytes(bytes, origin, &no_files, &options) {
             let msg = e.to_string();
             assert!(msg.contains("fuzz.glb"), "variant {k}: {msg}");
             assert!(

@@ -5,12 +5,13 @@
 use std::path::{Path, PathBuf};
 
 use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::formats::{self, LoadOptions};
 use lumis::geometry::Mesh;
 use lumis::light::Light;
 use lumis::material::Texture;
 use lumis::math::{Aabb, Vec3};
 use lumis::render::{RenderOptions, render};
-use lumis::scene::{self, GltfOptions, Scene};
+use lumis::scene::Scene;
 use lumis::texture::srgb_to_linear;
 
 fn asset(name: &str) -> PathBuf {
@@ -20,7 +21,7 @@ fn asset(name: &str) -> PathBuf {
 }
 
 fn load(name: &str) -> Scene {
-    scene::load(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e:#?}"))
+    formats::load(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e:#?}"))
 }
 
 fn close(a: Vec3, b: Vec3) -> bool {
@@ -207,7 +208,7 @@ fn lights_and_camera_take_their_node_transforms() {
     let s = load("lights_camera.gltf");
     assert_eq!(s.lights().len(), 3);
     // Candela and lux to W/sr and W/m^2: divided by 683 lm/W.
-    let watts = |v: Vec3| v / lumis::scene::LUMENS_PER_WATT;
+    let watts = |v: Vec3| v / lumis::light::LUMENS_PER_WATT;
     assert_eq!(
         s.lights()[0],
         Light::Point {
@@ -249,12 +250,12 @@ fn lights_and_camera_take_their_node_transforms() {
 fn camera_and_scene_choices_are_checked() {
     let path = asset("lights_camera.gltf");
     let pick = |scene, camera| {
-        let options = GltfOptions {
+        let options = LoadOptions {
             scene,
             camera,
-            ..GltfOptions::default()
+            ..LoadOptions::default()
         };
-        scene::load_with(&path, &options)
+        formats::load_with(&path, &options)
     };
     assert!(pick(Some(0), Some(0)).is_ok());
     let e = format!(

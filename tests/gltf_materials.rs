@@ -11,10 +11,11 @@ use std::process::Command;
 use lumis::accel::{Accel, AccelKind, BuildOptions};
 use lumis::camera::Camera;
 use lumis::film::Film;
+use lumis::formats;
 use lumis::light::Light;
 use lumis::math::{Ray, Vec3};
 use lumis::render::{RenderOptions, render};
-use lumis::scene::{self, Scene};
+use lumis::scene::Scene;
 
 fn asset(name: &str) -> PathBuf {
     common::files::root()
@@ -23,7 +24,7 @@ fn asset(name: &str) -> PathBuf {
 }
 
 fn load(name: &str) -> Scene {
-    scene::load(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e:#?}"))
+    formats::load(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e:#?}"))
 }
 
 /// Renders `s` `size` pixels square through `kind` from a camera on +Z whose view is exactly

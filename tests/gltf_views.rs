@@ -6,9 +6,10 @@ use std::path::{Path, PathBuf};
 
 use lumis::accel::{Accel, AccelKind, BuildOptions};
 use lumis::film::Film;
+use lumis::formats;
 use lumis::light::Light;
 use lumis::render::{RenderOptions, render};
-use lumis::scene::{self, Scene};
+use lumis::scene::Scene;
 
 fn asset(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -17,7 +18,7 @@ fn asset(name: &str) -> PathBuf {
 }
 
 fn load(name: &str) -> Scene {
-    scene::load(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e:#}"))
+    formats::load(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e:#}"))
 }
 
 fn render_at(mut s: Scene, width: u32, height: u32) -> Film {
@@ -122,7 +123,7 @@ fn orthographic_toml_camera_matches_the_gltf_one() {
         "#,
         asset("ortho_cubes.gltf").display()
     );
-    let s = scene::load_toml_str(&toml, Path::new("ortho.toml"), &|p| std::fs::read(p))
+    let s = formats::toml::load_toml_str(&toml, Path::new("ortho.toml"), &|p| std::fs::read(p))
         .unwrap_or_else(|e| panic!("{e:#}"));
     assert!(s.camera().is_orthographic());
     let film = render_at(s, 128, 64);
@@ -135,8 +136,8 @@ fn orthographic_toml_camera_matches_the_gltf_one() {
         "type = \"fisheye\"\nposition = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]",
     ] {
         let text = format!("[camera]\n{bad}\n");
-        let e =
-            scene::load_toml_str(&text, Path::new("bad.toml"), &|p| std::fs::read(p)).unwrap_err();
+        let e = formats::toml::load_toml_str(&text, Path::new("bad.toml"), &|p| std::fs::read(p))
+            .unwrap_err();
         assert!(format!("{e:#}").contains("camera"), "{e:#}");
     }
 }
@@ -167,11 +168,11 @@ fn the_default_rig_lights_the_side_a_camera_behind_the_model_sees() {
 
 #[test]
 fn up_z_turns_a_gltf_scene_with_its_cameras_and_lights() {
-    let options = scene::GltfOptions {
-        up: scene::UpAxis::Z,
-        ..scene::GltfOptions::default()
+    let options = formats::LoadOptions {
+        up: lumis::scene::UpAxis::Z,
+        ..formats::LoadOptions::default()
     };
-    let s = scene::load_with(&asset("lights_camera.gltf"), &options).unwrap();
+    let s = formats::load_with(&asset("lights_camera.gltf"), &options).unwrap();
     // (x, y, z) -> (x, z, -y): the ground quad at y = -0.5 now lies at z = +0.5.
     let b = s.geometry().bounds();
     assert_eq!(b.min.to_array(), [-5.0, -5.0, -0.5]);

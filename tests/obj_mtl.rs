@@ -6,10 +6,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::formats;
 use lumis::material::{Material, Texture};
 use lumis::math::{Vec2, Vec3};
 use lumis::render::{RenderOptions, render};
-use lumis::scene::{self, Scene};
+use lumis::scene::Scene;
 use lumis::texture::srgb_to_linear;
 
 fn asset(name: &str) -> PathBuf {
@@ -19,7 +20,7 @@ fn asset(name: &str) -> PathBuf {
 }
 
 fn load(path: &Path) -> Scene {
-    scene::load(path).unwrap_or_else(|e| panic!("{e:#?}"))
+    formats::load(path).unwrap_or_else(|e| panic!("{e:#?}"))
 }
 
 fn triangles(s: &Scene) -> usize {

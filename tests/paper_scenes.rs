@@ -9,8 +9,9 @@ use common::files::paper_scenes;
 use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
 use lumis::camera::Lens;
 use lumis::film::Film;
+use lumis::formats::load;
 use lumis::render::{RenderOptions, render};
-use lumis::scene::{Scene, load};
+use lumis::scene::Scene;
 
 fn bits(film: &Film) -> Vec<u32> {
     let rgba = film.rgba().iter().flat_map(|p| p.to_array());

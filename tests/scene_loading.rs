@@ -5,8 +5,9 @@ use std::error::Error;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
+use lumis::formats::{self, SceneError};
 use lumis::light::Light;
-use lumis::scene::{self, Scene, SceneError};
+use lumis::scene::Scene;
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -27,7 +28,7 @@ fn chain(e: &SceneError) -> String {
 
 /// Loads `text` as if it were `tests/fixtures/bad.toml`, with files read from disk.
 fn load(text: &str) -> Result<Scene, SceneError> {
-    scene::load_toml_str(text, &fixture("bad.toml"), &|p| std::fs::read(p))
+    formats::toml::load_toml_str(text, &fixture("bad.toml"), &|p| std::fs::read(p))
 }
 
 /// Loads `text`, expects an error, and checks it names the file and contains every `needle`.
@@ -47,7 +48,7 @@ const CAMERA: &str = "[camera]\nposition = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0,
 
 #[test]
 fn default_scene_loads_with_every_effect() {
-    let s = scene::default_scene().unwrap_or_else(|e| panic!("{}", chain(&e)));
+    let s = formats::default_scene().unwrap_or_else(|e| panic!("{}", chain(&e)));
     assert_eq!(s.geometry().spheres().len(), 6);
     assert_eq!(s.geometry().meshes().len(), 1);
     assert_eq!(s.geometry().meshes()[0].triangle_count(), 1920);
@@ -70,8 +71,8 @@ fn default_scene_loads_with_every_effect() {
 #[test]
 fn default_scene_file_on_disk_matches_the_embedded_one() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/default.toml");
-    let disk = scene::load(&path).unwrap_or_else(|e| panic!("{}", chain(&e)));
-    let embedded = scene::default_scene().unwrap_or_else(|e| panic!("{}", chain(&e)));
+    let disk = formats::load(&path).unwrap_or_else(|e| panic!("{}", chain(&e)));
+    let embedded = formats::default_scene().unwrap_or_else(|e| panic!("{}", chain(&e)));
     assert_eq!(disk.objects(), embedded.objects());
     assert_eq!(disk.geometry().meshes(), embedded.geometry().meshes());
     assert_eq!(disk.camera(), embedded.camera());
@@ -116,12 +117,12 @@ translate = [10.0, 0.0, 0.0]
 fn obj_fixture_loads_objects_with_quads_triangulated() {
     let path = fixture("cube.obj");
     let bytes = std::fs::read(&path).unwrap();
-    let meshes = scene::load_obj_meshes(&mut bytes.as_slice(), &path).unwrap();
+    let meshes = formats::obj::load_obj_meshes(&mut bytes.as_slice(), &path).unwrap();
     assert_eq!(meshes.len(), 2);
     assert_eq!(meshes[0].0, "bottom_half");
     let tris: usize = meshes.iter().map(|(_, m)| m.triangle_count()).sum();
     assert_eq!(tris, 12);
-    let merged = scene::load_obj_merged(&mut bytes.as_slice(), &path).unwrap();
+    let merged = formats::obj::load_obj_merged(&mut bytes.as_slice(), &path).unwrap();
     assert_eq!(merged.triangle_count(), 12);
     assert_eq!(merged.bounds().min, Vec3::new(-1.0, 0.0, -1.0));
     assert_eq!(merged.bounds().max, Vec3::new(1.0, 2.0, 1.0));
@@ -130,7 +131,7 @@ fn obj_fixture_loads_objects_with_quads_triangulated() {
 
 #[test]
 fn scene_references_obj_relative_to_its_folder() {
-    let s = scene::load(&fixture("with_obj.toml")).unwrap_or_else(|e| panic!("{}", chain(&e)));
+    let s = formats::load(&fixture("with_obj.toml")).unwrap_or_else(|e| panic!("{}", chain(&e)));
     let m = &s.geometry().meshes()[0];
     assert_eq!(m.triangle_count(), 12);
     assert!(
@@ -144,7 +145,7 @@ fn scene_references_obj_relative_to_its_folder() {
 
 #[test]
 fn bare_obj_gets_a_camera_and_lights() {
-    let s = scene::load(&fixture("cube.obj")).unwrap_or_else(|e| panic!("{}", chain(&e)));
+    let s = formats::load(&fixture("cube.obj")).unwrap_or_else(|e| panic!("{}", chain(&e)));
     assert_eq!(s.objects().len(), 2);
     assert_eq!(s.lights().len(), 2);
     let to_center = (Vec3::new(0.0, 1.0, 0.0) - s.camera().position()).normalize();
@@ -305,7 +306,7 @@ fn malformed_obj_returns_errors_not_panics() {
         "f 1//1 2//2 3//3\n",
         "\u{0}\u{ff}garbage\n",
     ] {
-        if let Err(e) = scene::load_obj_meshes(&mut text.as_bytes(), path) {
+        if let Err(e) = formats::obj::load_obj_meshes(&mut text.as_bytes(), path) {
             assert!(chain(&e).contains("broken.obj"), "{}", chain(&e));
         }
     }
@@ -330,7 +331,7 @@ fn arbitrary_text_never_panics() {
 
 #[test]
 fn unknown_extension_is_an_error() {
-    let e = scene::load(Path::new("scene.blend"))
+    let e = formats::load(Path::new("scene.blend"))
         .err()
         .map(|e| chain(&e));
     assert!(e.is_some_and(|m| m.contains("scene.blend")));
@@ -366,7 +367,7 @@ fn documented_example_loads() {
         .and_then(|s| s.split("```").next())
         .expect("docs/scene-format.md has a complete example");
     // As if it lived in scenes/, so its `../assets/knot.obj` resolves.
-    let s = scene::load_toml_str(example, &root.join("scenes/example.toml"), &|p| {
+    let s = formats::toml::load_toml_str(example, &root.join("scenes/example.toml"), &|p| {
         std::fs::read(p)
     })
     .unwrap_or_else(|e| panic!("{}", chain(&e)));

@@ -2,11 +2,12 @@
 //! the model placement rule, and clear errors (file and line) for bad input.
 
 use lumis::camera::Lens;
+use lumis::formats::load;
+use lumis::formats::scn::parse_scn;
 use lumis::light::Light;
 use lumis::material::Texture;
 use lumis::math::Vec3;
 use lumis::output::DisplayTransform;
-use lumis::scene::{load, parse_scn};
 use std::path::Path;
 
 fn fixture(name: &str) -> std::path::PathBuf {

@@ -1,8 +1,8 @@
 //! TOML scenes place model files (glTF/GLB, `.m`, OBJ) with transforms and material overrides
 //! beside spheres.
 
+use lumis::formats::load;
 use lumis::math::Vec3;
-use lumis::scene::load;
 use std::path::Path;
 
 fn root(p: &str) -> String {
@@ -15,7 +15,7 @@ fn root(p: &str) -> String {
 #[test]
 fn gltf_and_m_models_are_placed_with_transforms_and_overrides() {
     let dir = tempfile::tempdir().unwrap();
-    let cube = lumis::scene::load(Path::new(&root("assets/gltf/cube.glb"))).unwrap();
+    let cube = lumis::formats::load(Path::new(&root("assets/gltf/cube.glb"))).unwrap();
     let cube_bounds = cube.geometry().bounds();
     let scene = dir.path().join("models.toml");
     let text = format!(

@@ -59,7 +59,7 @@ pub fn default_set(paper_dir: &Path) -> Result<Vec<BenchScene>> {
 /// A built-in name, a paper scene's file name (looked up in `paper_dir`), or a scene path.
 pub fn resolve(arg: &str, paper_dir: &Path) -> Result<BenchScene> {
     let scene = match arg {
-        "default" => crate::scene::default_scene().context("loading the default scene")?,
+        "default" => crate::formats::default_scene().context("loading the default scene")?,
         "far-occluder" => far_occluder(),
         "far-spheres" => far_spheres(),
         _ => {
@@ -71,7 +71,7 @@ pub fn resolve(arg: &str, paper_dir: &Path) -> Result<BenchScene> {
             } else {
                 bail!("{arg}: no such file, and not one of {}", BUILTIN.join(", "));
             };
-            crate::scene::load(&path).with_context(|| format!("loading {}", path.display()))?
+            crate::formats::load(&path).with_context(|| format!("loading {}", path.display()))?
         }
     };
     let name = Path::new(arg)

@@ -4,7 +4,7 @@ use lumis::bench_effects::{csv, markdown, measure_effects, reasons_markdown};
 
 #[test]
 fn bench_effects_measures_both_modes_and_reports_identical_images() {
-    let mut scene = lumis::scene::default_scene().expect("default scene");
+    let mut scene = lumis::formats::default_scene().expect("default scene");
     let st = scene.settings_mut();
     (st.width, st.height, st.spp, st.cutoff) = (32, 18, 1, 0.0);
     let row = measure_effects(&scene, "default", 1, Some(1), false).expect("bench");

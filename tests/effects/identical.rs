@@ -7,7 +7,8 @@ use std::path::Path;
 
 /// Loads `file`, shrinks the image to `w x h` with one sample per pixel, and checks both modes.
 fn check(file: &Path, w: u32, h: u32) -> (u64, u64) {
-    let mut scene = lumis::scene::load(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    let mut scene =
+        lumis::formats::load(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
     let st = scene.settings_mut();
     (st.width, st.height, st.spp) = (w, h, 1);
     let (auto, all) = auto_and_all(&file.display().to_string(), &mut scene);
@@ -43,7 +44,7 @@ fn assets_render_the_same_bits_as_effects_all() {
 
 #[test]
 fn default_scene_renders_the_same_bits_as_effects_all() {
-    let mut scene = lumis::scene::default_scene().expect("default scene");
+    let mut scene = lumis::formats::default_scene().expect("default scene");
     let st = scene.settings_mut();
     // Full samples and depth of the default; a smaller image.
     (st.width, st.height) = (64, 36);

@@ -1,7 +1,7 @@
 //! OBJ faces that have real area must survive loading, however thin or far from the origin:
 //! only faces whose area is exactly zero (decided by the rational oracle in [`super::exact`],
 //! never by lumis's own predicates) may be dropped, and those with a `file:line` warning.
-//! Every case loads OBJ text through `lumis::scene::load_obj` and shoots rays, aimed by the
+//! Every case loads OBJ text through `lumis::formats::obj::load_obj` and shoots rays, aimed by the
 //! oracle at face interiors, through every accelerator x traversal ([`super::harness`]).
 
 use std::collections::HashMap;
@@ -9,9 +9,9 @@ use std::path::Path;
 
 use super::exact::{ExactHit, Q, V, exact_to_f64, ray_triangle, triangle_is_degenerate};
 use super::harness::Everywhere;
+use lumis::formats::obj::{ObjModel, load_obj};
 use lumis::geometry::Geometry;
 use lumis::math::{Ray, Vec3};
-use lumis::scene::{ObjModel, load_obj};
 use num_traits::{Signed, Zero};
 
 /// The OBJ text `obj` loaded as if read from `name`, without materials.

@@ -14,7 +14,7 @@ opens model paths relative to its working directory).
 lumis: `lumis render SCENE.scn -q -o OUT.png --width W --height H --threads T --display clamp
 --stats-json S.json`. Its .scn loader already applies the original's defaults (1 sample per
 axis, 5 lens rays, maxReflections 10, dispersion 5, clamp display, no contribution cutoff;
-src/scene/scn.rs), so only the size and threads are given; `--spp` only when --spp is not 1.
+src/formats/scn/mod.rs), so only the size and threads are given; `--spp` only when --spp is not 1.
 `--display clamp` is the loader's default for .scn too, and is written out because the image
 comparison depends on it.
 
@@ -36,7 +36,7 @@ channels in 8-bit levels, and the fraction of pixels where some channel differs 
 two scenes, a defect of theirs); --json has them for every variant. The two programs do not
 render the same image: depth of field is random in both (the original seeds by the clock) and
 lumis does not copy the original's known defects (../shared/paper-original/README.md,
-src/scene/scn.rs), so the differences are reported, not judged.
+src/formats/scn/mod.rs), so the differences are reported, not judged.
 
 The machine is printed beside the figures (lscpu model name, whether the CPU has avx2 and
 avx512f). lumis is --lumis PATH or $LUMIS_BIN, else target/release/lumis of this checkout

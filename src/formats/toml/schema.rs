@@ -1,6 +1,6 @@
 //! The serde schema of a TOML scene file: what may appear where, and with which type.
 //! Unknown keys are errors, so a typo never passes silently. Values are checked later, in
-//! [`super::toml`], where errors can name the element.
+//! [`super`], where errors can name the element.
 
 use std::collections::BTreeMap;
 
@@ -72,7 +72,7 @@ pub(super) struct MaterialDoc {
 }
 
 /// `[[light]]`. One flat table (not a serde-tagged enum) so errors keep exact line numbers;
-/// which keys each `type` needs is checked in [`super::toml`].
+/// which keys each `type` needs is checked in [`super`].
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct LightDoc {

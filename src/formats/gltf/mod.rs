@@ -26,33 +26,15 @@ use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::path::Path;
 
-use super::{Resolver, Scene, SceneBuilder, SceneError, UpAxis, auto};
+use super::{LoadOptions, Resolver, SceneError, read_file, read_file_bytes};
 use crate::geometry::Mesh;
-
-/// Choices a model file leaves to the caller: `scene` and `camera` only exist in glTF files,
-/// `up` and `auto_camera` apply to OBJ files too.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct GltfOptions {
-    /// Index of the scene to render (`--gltf-scene`); `None`: the file's default scene.
-    pub scene: Option<usize>,
-    /// Which camera to look through (`--camera`): the N-th camera node met depth first in the
-    /// scene's hierarchy; `None`: the first, or the automatic framing camera when there is none.
-    pub camera: Option<usize>,
-    /// Which model axis is up (`--up`); the model is turned to lumis's Y-up world before the
-    /// automatic camera and light rig are placed. glTF is Y-up by specification.
-    pub up: UpAxis,
-    /// Ignore the file's cameras and use the automatic framing camera (`--auto-camera`).
-    pub auto_camera: bool,
-}
+use crate::scene::{Scene, SceneBuilder, default_rig, framing_camera};
 
 /// Loads the `.gltf` or `.glb` file at `path`; external buffers are read from disk relative to
 /// its folder.
-pub fn load_gltf_file(path: &Path, options: &GltfOptions) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    load_gltf_bytes(&bytes, path, &|p| std::fs::read(p), options)
+pub fn load_gltf_file(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+    let bytes = read_file(path)?;
+    load_gltf_bytes(&bytes, path, &read_file_bytes, options)
 }
 
 /// Loads a glTF scene from `bytes` (JSON or GLB). `origin` names the file in errors and is where
@@ -61,7 +43,7 @@ pub fn load_gltf_bytes(
     bytes: &[u8],
     origin: &Path,
     resolver: Resolver<'_>,
-    options: &GltfOptions,
+    options: &LoadOptions,
 ) -> Result<Scene, SceneError> {
     // The checks in `buffers` cover every slice the crate takes; this is the last line of
     // defence should a hostile file find a path they missed.
@@ -80,7 +62,7 @@ fn load_inner(
     bytes: &[u8],
     origin: &Path,
     resolver: Resolver<'_>,
-    options: &GltfOptions,
+    options: &LoadOptions,
 ) -> Result<Scene, SceneError> {
     let mut warnings = Vec::new();
     let (doc, blob) = buffers::parse(bytes, origin, &mut warnings)?;
@@ -214,10 +196,10 @@ fn load_inner(
             }
             camera
         }
-        None => auto::framing_camera(bounds, settings.width, settings.height),
+        None => framing_camera(bounds, settings.width, settings.height),
     };
     if !file_has_lights && !bounds.is_empty() {
-        for light in auto::default_rig(bounds, &camera) {
+        for light in default_rig(bounds, &camera) {
             b.add_light(light);
         }
     }
@@ -227,5 +209,4 @@ fn load_inner(
     Ok(b.build(camera))
 }
 
-pub use nodes::LUMENS_PER_WATT;
 use nodes::Placed;

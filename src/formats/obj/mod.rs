@@ -1,9 +1,9 @@
 //! Wavefront OBJ models with their MTL materials (documented in `docs/obj-mtl.md`).
 //!
 //! `tobj` parses; lumis checks indices first (errors name the file and line, see
-//! [`super::obj_scan`]), triangulates polygons itself by ear clipping (so concave faces come out
+//! [`scan`]), triangulates polygons itself by ear clipping (so concave faces come out
 //! right), flips `v` to the top-left texture convention and converts materials
-//! ([`super::mtl`]). Each OBJ object or group (`o`/`g`), split further where `usemtl` changes
+//! ([`mtl`]). Each OBJ object or group (`o`/`g`), split further where `usemtl` changes
 //! inside it, becomes one [`ObjObject`]. Normals: an object whose every vertex has a normal is
 //! smooth-shaded with them; otherwise the whole object is flat-shaded (geometric normals).
 //! Texture coordinates likewise survive only when every vertex has one.
@@ -15,17 +15,21 @@
 //! material = "gold"             # optional: without it, the MTL materials apply
 //! ```
 
+mod mtl;
+mod scan;
+
 use std::cell::RefCell;
 use std::collections::HashSet;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use super::mtl::MtlConverter;
-use super::obj_scan::scan;
-use super::{Resolver, SceneError};
+use super::{LoadOptions, Resolver, SceneError, read_file, read_file_bytes};
 use crate::geometry::{Mesh, Triangulation, triangulate_polygon};
 use crate::material::Material;
 use crate::math::{Vec2, Vec3};
+use crate::scene::{Scene, SceneBuilder, UpAxis, default_rig, framing_camera};
+use mtl::MtlConverter;
+use scan::scan;
 
 /// One object (or group, or run of faces with one `usemtl`) of an OBJ file.
 #[derive(Clone, Debug)]
@@ -301,4 +305,37 @@ fn vec3s(flat: &[f32]) -> Vec<Vec3> {
     flat.chunks_exact(3)
         .map(|c| Vec3::new(c[0], c[1], c[2]))
         .collect()
+}
+
+/// A bare OBJ file as a scene: one scene object per OBJ object, materials from its MTL files,
+/// turned so that `options.up` is up (the other options are glTF's).
+pub fn load_obj_scene(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+    let bytes = read_file(path)?;
+    let model = load_obj(&bytes, path, Some(&read_file_bytes))?;
+    let mut b = SceneBuilder::new();
+    for w in model.warnings {
+        b.warn(w);
+    }
+    let ids: Vec<u32> = model
+        .materials
+        .into_iter()
+        .map(|m| b.add_material(m))
+        .collect();
+    let default = b.add_material(Material::default());
+    let turn = options.up.to_y_up();
+    for o in model.objects {
+        let material = o.material.map_or(default, |k| ids[k]);
+        let mesh = match options.up {
+            UpAxis::Y => o.mesh,
+            UpAxis::Z => o.mesh.transformed(&turn),
+        };
+        b.add_mesh(o.name, mesh, material);
+    }
+    let bounds = b.bounds();
+    let (w, h) = (b.settings_mut().width, b.settings_mut().height);
+    let camera = framing_camera(bounds, w, h);
+    for light in default_rig(bounds, &camera) {
+        b.add_light(light);
+    }
+    Ok(b.build(camera))
 }

@@ -11,10 +11,11 @@
 
 use std::path::{Path, PathBuf};
 
-use super::super::gltf::{GltfOptions, load_gltf_bytes};
-use super::super::mesh_m::parse_m;
+use super::super::LoadOptions;
+use super::super::gltf::load_gltf_bytes;
 use super::super::obj::{self, ObjModel};
-use super::super::toml_schema::{MeshDoc, Scale};
+use super::super::scn::parse_m;
+use super::schema::{MeshDoc, Scale};
 use super::{Loader, SceneError};
 use crate::geometry::{Mesh, Primitive};
 use crate::math::{Mat4, Vec3};
@@ -170,7 +171,7 @@ impl Loader<'_> {
     ) -> Result<(), SceneError> {
         let path = resolve(self.origin, file);
         let bytes = self.read_asset(e, &path)?;
-        let model = load_gltf_bytes(&bytes, &path, self.resolver, &GltfOptions::default())
+        let model = load_gltf_bytes(&bytes, &path, self.resolver, &LoadOptions::default())
             .map_err(|err| self.asset_error(e, &path, err))?;
         for w in model.warnings() {
             self.builder.warn(w.clone());

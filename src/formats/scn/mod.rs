@@ -43,54 +43,30 @@
 //! The noise textures follow the original's formulas (see [`Texture`]) over lumis's own
 //! Perlin noise, so they look alike but are not the same pixels.
 
-use super::mesh_m::{MeshMError, load_m_file};
-use super::scn_camera::CameraSpec;
-use super::{Scene, SceneBuilder};
+mod camera;
+mod mesh_m;
+
+use super::{SceneError, read_text};
 use crate::geometry::{Mesh, Sphere};
 use crate::light::Light;
 use crate::material::{Material, Texture};
 use crate::math::{Aabb, Mat4, Vec3};
 use crate::output::DisplayTransform;
+use crate::scene::{MAX_DEPTH, MAX_LENS_SAMPLES, Scene, SceneBuilder};
 use crate::texture::NormalMap;
+use camera::CameraSpec;
+pub use mesh_m::{load_m_file, parse_m};
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-
-/// Why a `.scn` file could not be loaded.
-#[derive(Debug, thiserror::Error)]
-pub enum ScnError {
-    /// The file could not be read.
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
-    /// A statement is malformed.
-    #[error("{}:{line}: {message}", path.display())]
-    Syntax {
-        path: PathBuf,
-        line: usize,
-        message: String,
-    },
-    /// A `model` mesh could not be loaded.
-    #[error("{}:{line}: cannot load the model", path.display())]
-    Model {
-        path: PathBuf,
-        line: usize,
-        source: MeshMError,
-    },
-}
+use std::path::Path;
 
 /// Loads a `.scn` file; `model` paths resolve relative to its folder.
-pub fn load_scn_file(path: &Path) -> Result<Scene, ScnError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ScnError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+pub fn load_scn_file(path: &Path) -> Result<Scene, SceneError> {
+    let text = read_text(path)?;
     parse_scn(&text, path)
 }
 
 /// Parses `.scn` text; `path` names it in messages and anchors relative `model` paths.
-pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
+pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let tokens: Vec<(usize, &str)> = text
         .lines()
         .enumerate()
@@ -131,10 +107,10 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
             "dispersion" => cam.dispersion = p.number("dispersion")?,
             "depthComplexity" => {
                 b.settings_mut().lens_samples =
-                    p.count("depth complexity", super::MAX_LENS_SAMPLES)?.max(1)
+                    p.count("depth complexity", MAX_LENS_SAMPLES)?.max(1)
             }
             "maxReflections" => {
-                b.settings_mut().max_depth = p.count("maximum reflections", super::MAX_DEPTH)?
+                b.settings_mut().max_depth = p.count("maximum reflections", MAX_DEPTH)?
             }
             "light" => {
                 let position = p.vec3("light position")?;
@@ -174,10 +150,11 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, ScnError> {
                 let offset = p.vec3("model translation")?;
                 let m = p.material(&mut b)?;
                 let full = path.parent().unwrap_or(Path::new(".")).join(file);
-                let mesh = load_m_file(&full).map_err(|source| ScnError::Model {
+                let mesh = load_m_file(&full).map_err(|source| SceneError::LineAsset {
                     path: path.to_owned(),
                     line,
-                    source,
+                    file: full.clone(),
+                    source: Box::new(source),
                 })?;
                 b.add_mesh(file.to_owned(), place_model(mesh, size, offset), m);
             }
@@ -225,8 +202,8 @@ impl<'a> Parser<'a> {
         t
     }
 
-    fn err(&self, line: usize, message: String) -> ScnError {
-        ScnError::Syntax {
+    fn err(&self, line: usize, message: String) -> SceneError {
+        SceneError::Line {
             path: self.path.to_owned(),
             line,
             message,
@@ -241,13 +218,13 @@ impl<'a> Parser<'a> {
             .map_or(1, |t| t.0)
     }
 
-    fn word(&mut self, what: &str) -> Result<&'a str, ScnError> {
+    fn word(&mut self, what: &str) -> Result<&'a str, SceneError> {
         self.next()
             .map(|t| t.1)
             .ok_or_else(|| self.err(self.line(), format!("expected {what}, found end of file")))
     }
 
-    fn number(&mut self, what: &str) -> Result<f32, ScnError> {
+    fn number(&mut self, what: &str) -> Result<f32, SceneError> {
         let (line, t) = self
             .next()
             .ok_or_else(|| self.err(self.line(), format!("expected {what}, found end of file")))?;
@@ -260,7 +237,7 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn positive(&mut self, what: &str) -> Result<f32, ScnError> {
+    fn positive(&mut self, what: &str) -> Result<f32, SceneError> {
         let v = self.number(what)?;
         if v > 0.0 {
             Ok(v)
@@ -269,8 +246,8 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// A whole number in `0..=max` (the renderer's limits: see [`super::Settings::validate`]).
-    fn count(&mut self, what: &str, max: u32) -> Result<u32, ScnError> {
+    /// A whole number in `0..=max` (the renderer's limits: see [`crate::scene::Settings::validate`]).
+    fn count(&mut self, what: &str, max: u32) -> Result<u32, SceneError> {
         let v = self.number(what)?;
         if v >= 0.0 && v.fract() == 0.0 && v <= max as f32 {
             Ok(v as u32)
@@ -282,7 +259,7 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn vec3(&mut self, what: &str) -> Result<Vec3, ScnError> {
+    fn vec3(&mut self, what: &str) -> Result<Vec3, SceneError> {
         Ok(Vec3::new(
             self.number(what)?,
             self.number(what)?,
@@ -290,18 +267,18 @@ impl<'a> Parser<'a> {
         ))
     }
 
-    fn colour(&mut self) -> Result<Vec3, ScnError> {
+    fn colour(&mut self) -> Result<Vec3, SceneError> {
         self.vec3("colour component")
     }
 
     /// A MATERIAL where geometry expects one, added to the scene; returns its index.
-    fn material(&mut self, b: &mut SceneBuilder) -> Result<u32, ScnError> {
+    fn material(&mut self, b: &mut SceneBuilder) -> Result<u32, SceneError> {
         let m = self.material_spec()?;
         Ok(b.add_material(m))
     }
 
     /// A material: a defined name, or a type with its parameters and a normal map.
-    fn material_spec(&mut self) -> Result<Material, ScnError> {
+    fn material_spec(&mut self) -> Result<Material, SceneError> {
         let (line, kind) = self.next().ok_or_else(|| {
             self.err(self.line(), "expected a material, found end of file".into())
         })?;
@@ -374,7 +351,7 @@ impl<'a> Parser<'a> {
         Ok(m)
     }
 
-    fn normal_map(&mut self) -> Result<Option<NormalMap>, ScnError> {
+    fn normal_map(&mut self) -> Result<Option<NormalMap>, SceneError> {
         match self.next() {
             Some((_, "null")) => Ok(None),
             Some((_, "NormalMap")) => Ok(Some(NormalMap {

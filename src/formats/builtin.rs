@@ -3,7 +3,9 @@
 
 use std::path::Path;
 
-use super::{Scene, SceneError, load_toml_str};
+use super::SceneError;
+use super::toml::load_toml_str;
+use crate::scene::Scene;
 
 /// Where the embedded default scene claims to live (in messages and for resolving its assets).
 const DEFAULT_SCENE_PATH: &str = "scenes/default.toml";

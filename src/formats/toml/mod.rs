@@ -1,31 +1,26 @@
 //! The TOML scene format (documented in `docs/scene-format.md`): parsing into the schema of
-//! [`super::toml_schema`], then checking every value and reference while building the [`Scene`].
+//! [`schema`], then checking every value and reference while building the [`Scene`].
 
 mod mesh;
+mod schema;
 
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::toml_schema::{CameraDoc, LightDoc, LightKind, MaterialDoc, RenderDoc, SceneDoc};
-use super::{SceneBuilder, SceneError, auto};
+use super::{Resolver, SceneError, read_file_bytes, read_text};
 use crate::camera::Camera;
 use crate::geometry::Sphere;
 use crate::light::Light;
 use crate::material::{Material, Texture};
 use crate::math::Vec3;
 use crate::scene::Scene;
-
-/// Reads file callback: the bytes of a file a scene references (an OBJ mesh, an MTL file, a
-/// texture).
-pub type Resolver<'a> = &'a dyn Fn(&Path) -> std::io::Result<Vec<u8>>;
+use crate::scene::{SceneBuilder, framing_camera};
+use schema::{CameraDoc, LightDoc, LightKind, MaterialDoc, RenderDoc, SceneDoc};
 
 /// Loads the TOML scene at `path`; referenced files are read from disk relative to its folder.
 pub fn load_toml_file(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    load_toml_str(&text, path, &|p| std::fs::read(p))
+    let text = read_text(path)?;
+    load_toml_str(&text, path, &read_file_bytes)
 }
 
 /// Loads a TOML scene from `text`. `origin` is the scene's path: it names the file in errors and
@@ -98,7 +93,7 @@ impl Loader<'_> {
             Some(c) => self.camera(c)?,
             None => {
                 let s = self.builder.settings_mut().clone();
-                auto::framing_camera(self.builder.bounds(), s.width, s.height)
+                framing_camera(self.builder.bounds(), s.width, s.height)
             }
         };
         Ok(self.builder.build(camera))
@@ -128,8 +123,8 @@ impl Loader<'_> {
 
     fn render(&mut self, r: &RenderDoc) -> Result<(), SceneError> {
         let e = "render";
-        let d = super::Settings::default();
-        let settings = super::Settings {
+        let d = crate::scene::Settings::default();
+        let settings = crate::scene::Settings {
             width: r.width.unwrap_or(d.width),
             height: r.height.unwrap_or(d.height),
             spp: r.spp.unwrap_or(d.spp),

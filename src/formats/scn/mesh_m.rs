@@ -2,41 +2,21 @@
 //! lines with 1-based vertex numbers; `#` starts a comment; attributes after the coordinates
 //! are ignored, and so are the format's `Corner` and `Edge` attribute statements.
 
+use super::super::{SceneError, read_text};
 use crate::geometry::Mesh;
 use crate::math::Vec3;
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-
-/// Why a `.m` file could not be read.
-#[derive(Debug, thiserror::Error)]
-pub enum MeshMError {
-    /// The file could not be read.
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
-    /// A line is malformed or refers to something missing.
-    #[error("{}:{line}: {message}", path.display())]
-    Syntax {
-        path: PathBuf,
-        line: usize,
-        message: String,
-    },
-}
+use std::path::Path;
 
 /// Reads a `.m` file into a mesh (no normals: faceted, like the original renders them).
-pub fn load_m_file(path: &Path) -> Result<Mesh, MeshMError> {
-    let text = std::fs::read_to_string(path).map_err(|source| MeshMError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+pub fn load_m_file(path: &Path) -> Result<Mesh, SceneError> {
+    let text = read_text(path)?;
     parse_m(&text, path)
 }
 
 /// Parses `.m` text; `path` is only used in messages.
-pub fn parse_m(text: &str, path: &Path) -> Result<Mesh, MeshMError> {
-    let err = |line: usize, message: String| MeshMError::Syntax {
+pub fn parse_m(text: &str, path: &Path) -> Result<Mesh, SceneError> {
+    let err = |line: usize, message: String| SceneError::Line {
         path: path.to_owned(),
         line,
         message,
@@ -49,7 +29,7 @@ pub fn parse_m(text: &str, path: &Path) -> Result<Mesh, MeshMError> {
         let content = raw.split('#').next().unwrap_or("");
         let mut tok = content.split_whitespace();
         let Some(keyword) = tok.next() else { continue };
-        let mut int = |what: &str| -> Result<u64, MeshMError> {
+        let mut int = |what: &str| -> Result<u64, SceneError> {
             let t = tok
                 .next()
                 .ok_or_else(|| err(line, format!("expected {what}, found end of line")))?;

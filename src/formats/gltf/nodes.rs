@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::super::SceneError;
 use crate::camera::Camera;
-use crate::light::Light;
+use crate::light::{LUMENS_PER_WATT, Light};
 use crate::math::{Mat4, Vec3};
 
 /// A node reached from the chosen scene, with its world transform.
@@ -81,10 +81,6 @@ pub(super) fn flatten<'a>(
     }
     Ok(out)
 }
-
-/// Lumens per watt: the luminous efficacy of 555 nm light, which defines the candela. glTF
-/// light intensities are photometric (candela, lux); lumis's are radiometric (W/sr, W/m^2).
-pub const LUMENS_PER_WATT: f32 = 683.0;
 
 /// A `KHR_lights_punctual` light placed by `world`. Units: intensity in candela (point, spot)
 /// becomes radiant intensity in W/sr and lux (directional) irradiance in W/m^2, both divided by

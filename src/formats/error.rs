@@ -53,12 +53,17 @@ pub enum SceneError {
         #[source]
         source: Box<SceneError>,
     },
-    /// A `.scn` scene failed to load (its message names the file and line).
-    #[error(transparent)]
-    Scn(#[from] super::scn::ScnError),
-    /// A `.m` mesh failed to load (its message names the file and line).
-    #[error(transparent)]
-    MeshM(#[from] super::mesh_m::MeshMError),
+    /// A line of a line-oriented file (`.scn`, `.m`) is malformed or refers to something
+    /// missing.
+    #[error("{}:{line}: {message}", path.display())]
+    Line {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// What was found and what was expected.
+        message: String,
+    },
     /// The OBJ file is malformed.
     #[error("{}: invalid OBJ: {message}", path.display())]
     Obj {
@@ -66,6 +71,20 @@ pub enum SceneError {
         path: PathBuf,
         /// What tobj or the mesh validation reported.
         message: String,
+    },
+    /// A file referenced from a line of a line-oriented file (a `.scn` `model`) failed to
+    /// load; the cause is the `source`.
+    #[error("{}:{line}: cannot load {}", path.display(), file.display())]
+    LineAsset {
+        /// The referencing file.
+        path: PathBuf,
+        /// 1-based line of the reference.
+        line: usize,
+        /// The referenced file.
+        file: PathBuf,
+        /// Why it failed.
+        #[source]
+        source: Box<SceneError>,
     },
     /// The glTF file as a whole is unreadable (bad GLB container, invalid JSON, a schema
     /// violation); errors in one element use [`SceneError::Invalid`] with that element.

@@ -1,0 +1,124 @@
+//! [`SceneBuilder`]: the one way loaders and tests assemble a [`Scene`], so every primitive has
+//! an object and every object a material.
+
+use super::{Object, Scene, Settings};
+use crate::camera::Camera;
+use crate::geometry::Geometry;
+use crate::light::Light;
+use crate::material::Material;
+
+/// Assembles a [`Scene`], checking every reference as it goes.
+#[derive(Clone, Debug)]
+pub struct SceneBuilder {
+    geometry: Geometry,
+    prim_object: Vec<u32>,
+    objects: Vec<Object>,
+    materials: Vec<Material>,
+    lights: Vec<Light>,
+    settings: Settings,
+    warnings: Vec<String>,
+}
+
+impl Default for SceneBuilder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl SceneBuilder {
+    /// An empty scene with default settings.
+    pub fn new() -> Self {
+        Self {
+            geometry: Geometry::new(),
+            prim_object: Vec::new(),
+            objects: Vec::new(),
+            materials: Vec::new(),
+            lights: Vec::new(),
+            settings: Settings::default(),
+            warnings: Vec::new(),
+        }
+    }
+
+    /// Adds a material; returns its index.
+    pub fn add_material(&mut self, m: Material) -> u32 {
+        self.materials.push(m);
+        self.materials.len() as u32 - 1
+    }
+
+    /// Adds a light.
+    pub fn add_light(&mut self, l: Light) {
+        self.lights.push(l);
+    }
+
+    /// Number of materials so far.
+    pub fn material_count(&self) -> usize {
+        self.materials.len()
+    }
+
+    /// Adds a sphere object with material `material` (must exist); returns the object id.
+    pub fn add_sphere(
+        &mut self,
+        name: impl Into<String>,
+        s: crate::geometry::Sphere,
+        material: u32,
+    ) -> u32 {
+        assert!(
+            (material as usize) < self.materials.len(),
+            "material {material} not added yet"
+        );
+        self.geometry.add_sphere(s);
+        self.push_object(name.into(), material, 1)
+    }
+
+    /// Adds a mesh object with material `material` (must exist); returns the object id.
+    pub fn add_mesh(
+        &mut self,
+        name: impl Into<String>,
+        m: crate::geometry::Mesh,
+        material: u32,
+    ) -> u32 {
+        assert!(
+            (material as usize) < self.materials.len(),
+            "material {material} not added yet"
+        );
+        let n = self.geometry.add_mesh(m).len();
+        self.push_object(name.into(), material, n)
+    }
+
+    fn push_object(&mut self, name: String, material: u32, prims: usize) -> u32 {
+        let id = self.objects.len() as u32;
+        self.objects.push(Object { name, material });
+        self.prim_object.extend(std::iter::repeat_n(id, prims));
+        id
+    }
+
+    /// Settings to edit.
+    pub fn settings_mut(&mut self) -> &mut Settings {
+        &mut self.settings
+    }
+
+    /// Bounds of the geometry added so far (for automatic cameras).
+    pub fn bounds(&self) -> crate::math::Aabb {
+        self.geometry.bounds()
+    }
+
+    /// Finishes the scene with its camera.
+    pub fn build(self, camera: Camera) -> Scene {
+        Scene {
+            geometry: self.geometry,
+            prim_object: self.prim_object,
+            objects: self.objects,
+            materials: self.materials,
+            lights: self.lights,
+            camera,
+            settings: self.settings,
+            warnings: self.warnings,
+        }
+    }
+
+    /// Records a problem the load survived (a missing texture, ignored elements); the CLI
+    /// prints these before rendering.
+    pub fn warn(&mut self, message: impl Into<String>) {
+        self.warnings.push(message.into());
+    }
+}
