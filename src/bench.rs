@@ -1,9 +1,10 @@
 //! `lumis bench paper`: the paper's Table I, measured. Every scene is rendered under each
 //! configuration the paper timed (plus SAH for reference); wall time is the median of K runs.
 
-use crate::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
+use crate::accel::{AccelKind, BuildOptions, SegmentParams, Traversal};
 use crate::render::{RenderError, RenderOptions, render};
 use crate::scene::Scene;
+use crate::scene::World;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -141,18 +142,18 @@ pub fn measure(
     let mut times = Vec::with_capacity(repeat);
     let mut last = None;
     for _ in 0..repeat.max(1) {
+        let scene = scene.clone();
         let start = Instant::now();
         let opts = BuildOptions {
             max_leaf_size: leaf_size.unwrap_or(config.accel.default_leaf_size()),
         };
-        let accel = Accel::build_for(config.accel, scene.geometry(), &opts)
-            .with_traversal(config.traversal);
+        let world = World::build(scene, config.accel, &opts).with_traversal(config.traversal);
         // Like the original's TGA, Table I's image has no depth/normal/id layers to trace.
         let opts = RenderOptions {
             aov_layers: false,
             ..RenderOptions::default()
         };
-        let out = render(scene, &accel, &opts)?;
+        let out = render(&world, &opts)?;
         times.push(start.elapsed().as_secs_f64());
         last = Some(out);
     }

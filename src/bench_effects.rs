@@ -2,11 +2,11 @@
 //! the default render against `--effects all` (everything traced), measured in the same run
 //! in interleaved rounds.
 
-use crate::accel::{Accel, AccelKind, BuildOptions};
+use crate::accel::{AccelKind, BuildOptions};
 use crate::effects::EffectMode;
 use crate::integrator::RayCounts;
 use crate::render::{RenderError, RenderOptions, Rendered, render};
-use crate::scene::Scene;
+use crate::scene::{Scene, World};
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -38,7 +38,7 @@ pub fn measure_effects(
     threads: Option<usize>,
     aov_layers: bool,
 ) -> Result<EffectsRow, RenderError> {
-    let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
+    let world = World::build(scene.clone(), AccelKind::Sah, &BuildOptions::default());
     let run = |effects: EffectMode| -> Result<(f64, Rendered), RenderError> {
         let opts = RenderOptions {
             threads,
@@ -47,7 +47,7 @@ pub fn measure_effects(
             ..RenderOptions::default()
         };
         let start = Instant::now();
-        let r = render(scene, &accel, &opts)?;
+        let r = render(&world, &opts)?;
         Ok((start.elapsed().as_secs_f64(), r))
     };
     let (_, mut auto) = run(EffectMode::Auto)?;

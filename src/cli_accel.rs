@@ -2,8 +2,8 @@
 
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
-use lumis::geometry::Geometry;
+use lumis::accel::{AccelKind, BuildOptions, SegmentParams, Traversal};
+use lumis::scene::{Scene, World};
 
 /// `--accel`, `--traversal`, `--segment-init`, `--segment-max`, `--leaf-size`.
 #[derive(Args, Debug)]
@@ -62,9 +62,9 @@ impl AccelArgs {
 }
 
 impl AccelChoice {
-    /// Builds over the primitives of `geometry`.
-    pub fn build(&self, geometry: &Geometry) -> Accel {
-        Accel::build_for(self.kind, geometry, &self.options).with_traversal(self.traversal)
+    /// Builds the accelerator over `scene`'s primitives.
+    pub fn build(&self, scene: Scene) -> World {
+        World::build(scene, self.kind, &self.options).with_traversal(self.traversal)
     }
 }
 

@@ -70,18 +70,18 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
     // The build runs on the same workers as the tracing, so `--threads 1` builds on one thread.
     let run = || {
         let start = Instant::now();
-        let accel = accel_kind.build(scene.geometry());
+        let world = accel_kind.build(scene);
         let build_s = start.elapsed().as_secs_f64();
         let mut hits = Vec::new();
         let mut trace_s = Vec::with_capacity(args.repeat as usize);
         for _ in 0..args.repeat {
             let start = Instant::now();
-            hits = trace_rays(&scene, &accel, &rays, args.any_hit);
+            hits = trace_rays(&world, &rays, args.any_hit);
             trace_s.push(start.elapsed().as_secs_f64());
         }
-        (accel, build_s, hits, trace_s)
+        (world, build_s, hits, trace_s)
     };
-    let (accel, build_s, hits, trace_s) = match args.threads {
+    let (world, build_s, hits, trace_s) = match args.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
@@ -91,13 +91,13 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
     };
     write_rows(&args.out, &hits)?;
     if let Some(path) = &args.spawn_out {
-        write_rows(path, &spawn_rows(&scene, &accel, &rays))?;
+        write_rows(path, &spawn_rows(&world, &rays))?;
     }
     if let Some(path) = &args.triangles_out {
-        write_rows(path, &triangle_rows(&scene))?;
+        write_rows(path, &triangle_rows(world.scene()))?;
     }
     if let Some(path) = &args.spheres_out {
-        write_rows(path, &sphere_rows(&scene))?;
+        write_rows(path, &sphere_rows(world.scene()))?;
     }
     if let Some(path) = &args.timings {
         let json = serde_json::json!({
@@ -105,9 +105,9 @@ pub fn run_hits(args: &HitsArgs) -> Result<()> {
             "load_s": load_s,
             "build_s": build_s,
             "trace_s": trace_s,
-            "prims": scene.geometry().prims().len(),
-            "geometry_bytes": scene.geometry().bytes(),
-            "accel_bytes": accel.bytes(),
+            "prims": world.scene().geometry().prims().len(),
+            "geometry_bytes": world.scene().geometry().bytes(),
+            "accel_bytes": world.accel().bytes(),
         });
         let json = format!("{json}\n");
         write_text(path, &json)?;

@@ -29,7 +29,7 @@ use crate::accel::{Accel, Hit, TraversalStats};
 use crate::geometry::{PrimHit, Primitive, with_prim_test};
 use crate::math::{Ray, Vec3};
 use crate::output::{OutputError, write_atomically};
-use crate::scene::Scene;
+use crate::scene::{Scene, World};
 
 /// Floats per input ray row.
 pub const RAY_COLUMNS: usize = 8;
@@ -150,28 +150,22 @@ fn check_ray(r: &[f32; RAY_COLUMNS]) -> Result<(), &'static str> {
     Ok(())
 }
 
-/// Traces every ray through `accel` (built over `scene.geometry().prim_bounds()`) in parallel
-/// on the current rayon pool; row `i` of the result answers ray `i` (format in the module
+/// Traces every ray through `world` in parallel on the current rayon pool; row `i` of the result answers ray `i` (format in the module
 /// docs). Rays must have passed [`read_rays`]'s checks. The result does not depend on the
 /// thread count. Primitives are intersected with the scene's `precision`.
 pub fn trace_rays(
-    scene: &Scene,
-    accel: &Accel,
+    world: &World,
     rays: &[[f32; RAY_COLUMNS]],
     any_hit: bool,
 ) -> Vec<[f32; HIT_COLUMNS]> {
-    trace_all(rays, |query, stats| query.row(scene, accel, any_hit, stats))
+    trace_all(rays, |query, stats| query.row(world, any_hit, stats))
 }
 
 /// For every ray, the spawn origins of its hit (see the module docs); rays that miss get `inf`.
-pub fn spawn_rows(
-    scene: &Scene,
-    accel: &Accel,
-    rays: &[[f32; RAY_COLUMNS]],
-) -> Vec<[f32; SPAWN_COLUMNS]> {
-    let offset = scene.settings().offset;
+pub fn spawn_rows(world: &World, rays: &[[f32; RAY_COLUMNS]]) -> Vec<[f32; SPAWN_COLUMNS]> {
+    let offset = world.scene().settings().offset;
     trace_all(rays, |query, stats| {
-        match scene.intersect(accel, &query.ray, stats) {
+        match world.intersect(&query.ray, stats) {
             None => [f32::INFINITY; SPAWN_COLUMNS],
             Some(hit) => {
                 let back = hit.surface.spawn_origin(-query.ray.dir, offset);
@@ -219,21 +213,19 @@ const MISS: [f32; HIT_COLUMNS] = [f32::INFINITY, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0,
 impl Query {
     /// The hit row: the scene's own nearest-hit query, or for `any_hit` the first blocker with
     /// the primitive test the scene's precision selects (chosen once per ray).
-    fn row(
-        &self,
-        scene: &Scene,
-        accel: &Accel,
-        any_hit: bool,
-        stats: &mut TraversalStats,
-    ) -> [f32; HIT_COLUMNS] {
+    fn row(&self, world: &World, any_hit: bool, stats: &mut TraversalStats) -> [f32; HIT_COLUMNS] {
+        let scene = world.scene();
         if any_hit {
             let (g, precision) = (scene.geometry(), scene.settings().precision);
-            return with_prim_test!(g, precision, &self.ray, |test| self
-                .blocker_row(accel, stats, test));
+            return with_prim_test!(g, precision, &self.ray, |test| self.blocker_row(
+                world.accel(),
+                stats,
+                test
+            ));
         }
         let ray = &self.ray;
         let g = scene.geometry();
-        let Some(Hit { prim, hit }) = scene.intersect_hit(accel, ray, stats) else {
+        let Some(Hit { prim, hit }) = world.intersect_hit(ray, stats) else {
             return MISS;
         };
         let n = g.geometric_normal(prim, ray, &hit);

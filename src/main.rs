@@ -209,7 +209,7 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     times.load = t.elapsed();
 
     let t = Instant::now();
-    let accel = choice.build(scene.geometry());
+    let world = choice.build(scene);
     times.build = t.elapsed();
 
     let t = Instant::now();
@@ -222,7 +222,8 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         aov_layers: outputs.iter().any(|p| has_extension(p, "exr")),
         effects: args.effects,
     };
-    let mut rendered = render(&scene, &accel, &opts)?;
+    let mut rendered = render(&world, &opts)?;
+    let scene = world.scene();
     times.render = t.elapsed();
 
     let exposure = match args.exposure {

@@ -1,13 +1,12 @@
 //! Drives the integrator over the image: rayon over 16x16 tiles, stratified jittered samples,
 //! a progress bar, and the only place the film is written.
 
-use crate::accel::Accel;
 use crate::effects::{Analysis, EffectMode};
 use crate::film::{Film, PixelAov};
 use crate::integrator::{RayCounts, Whitted};
 use crate::math::{Vec2, Vec4};
 use crate::rng::SampleRng;
-use crate::scene::{Scene, SettingsError};
+use crate::scene::{Scene, SettingsError, World};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
@@ -71,9 +70,10 @@ struct TileResult {
     counts: RayCounts,
 }
 
-/// Renders `scene` through `accel` (built over `scene.geometry().prim_bounds()`).
+/// Renders `world`'s scene through its accelerator.
 /// The image and the ray counts are identical for any thread count.
-pub fn render(scene: &Scene, accel: &Accel, opts: &RenderOptions) -> Result<Rendered, RenderError> {
+pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderError> {
+    let scene = world.scene();
     let st = scene.settings();
     let (width, height) = (st.width, st.height);
     // Whatever set them (a scene file, a flag, library code), these bound the work per pixel
@@ -84,7 +84,7 @@ pub fn render(scene: &Scene, accel: &Accel, opts: &RenderOptions) -> Result<Rend
         .collect();
     let bar = progress_bar(tiles.len() as u64, opts.progress);
     let analysis = Analysis::new(scene, opts.effects, opts.aov_layers);
-    let integrator = Whitted::new(scene, accel, &analysis);
+    let integrator = Whitted::new(world, &analysis);
     let pass = Pass {
         scene,
         integrator: &integrator,
@@ -221,7 +221,7 @@ fn centre_aov(
         st.height,
     );
     counts.aov += 1;
-    match scene.intersect(integrator.accel(), &ray, &mut counts.traversal) {
+    match integrator.world().intersect(&ray, &mut counts.traversal) {
         None => PixelAov::MISS,
         // The normal is reported as the surface defines it (outward / winding), not flipped
         // towards the camera, so it compares directly with other engines' normals.

@@ -2,12 +2,12 @@
 //! `hits` flags — and what each does: precision changes the primitive tests, offset moves spawn
 //! origins, cutoff cuts reflection branches (and 0 changes nothing).
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::accel::{AccelKind, BuildOptions};
 use lumis::formats::toml::load_toml_str;
 use lumis::geometry::{Offset, Precision};
 use lumis::hits::{spawn_rows, trace_rays};
 use lumis::render::{RenderOptions, render};
-use lumis::scene::Scene;
+use lumis::scene::{Scene, World};
 use std::path::Path;
 use std::process::Command;
 
@@ -54,8 +54,8 @@ fn load(text: &str) -> Scene {
     load_toml_str(text, Path::new("far.toml"), &|p| std::fs::read(p)).expect("valid scene")
 }
 
-fn sah(scene: &Scene) -> Accel {
-    Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default())
+fn sah(scene: Scene) -> World {
+    World::build(scene, AccelKind::Sah, &BuildOptions::default())
 }
 
 #[test]
@@ -113,25 +113,23 @@ fn bad_accuracy_keys_are_errors_naming_the_render_table() {
 
 #[test]
 fn cutoff_cuts_weak_branches_and_zero_changes_nothing() {
-    let mut scene = load(FAR_SCENE);
-    let accel = sah(&scene);
+    let mut world = sah(load(FAR_SCENE));
     let opts = RenderOptions::default();
-    let cut = render(&scene, &accel, &opts).unwrap();
-    scene.settings_mut().cutoff = 0.0;
-    let full = render(&scene, &accel, &opts).unwrap();
+    let cut = render(&world, &opts).unwrap();
+    world.settings_mut().cutoff = 0.0;
+    let full = render(&world, &opts).unwrap();
     // The mirror's 0.5 weight passes 0.2 once and 0.25 once more, never 0.125.
     assert!(cut.counts.cut() > 0 && full.counts.cut() == 0);
     assert!(cut.counts.reflection < full.counts.reflection);
     // A zero cutoff is the render without the option at all.
-    scene.settings_mut().cutoff = 0.0;
-    let again = render(&scene, &accel, &opts).unwrap();
+    world.settings_mut().cutoff = 0.0;
+    let again = render(&world, &opts).unwrap();
     assert_eq!(again.film.rgba(), full.film.rgba());
 }
 
 #[test]
 fn precision_and_offset_reach_the_hit_queries() {
-    let mut scene = load(FAR_SCENE);
-    let accel = sah(&scene);
+    let mut world = sah(load(FAR_SCENE));
     // Rays down onto the ground and the ball.
     let rays: Vec<[f32; 8]> = (0..64)
         .map(|i| {
@@ -139,17 +137,17 @@ fn precision_and_offset_reach_the_hit_queries() {
             [x, 5.0, 1e6 + 0.3, 0.0, -1.0, 0.01, 0.0, f32::INFINITY]
         })
         .collect();
-    let double = trace_rays(&scene, &accel, &rays, false);
-    scene.settings_mut().precision = Precision::Fast;
-    let fast = trace_rays(&scene, &accel, &rays, false);
+    let double = trace_rays(&world, &rays, false);
+    world.settings_mut().precision = Precision::Fast;
+    let fast = trace_rays(&world, &rays, false);
     assert_eq!(double.len(), 64);
     // Both see the same objects; the f32 quadratic loses digits of t on the far ball.
     assert!(double.iter().zip(&fast).all(|(a, b)| a[2] == b[2]));
     assert!(double.iter().zip(&fast).any(|(a, b)| a[0] != b[0]));
     // The epsilon rule puts spawn origins 0.001 off the ground; the error bound an ulp.
-    let eps = spawn_rows(&scene, &accel, &rays);
-    scene.settings_mut().offset = Offset::ErrorBound;
-    let bound = spawn_rows(&scene, &accel, &rays);
+    let eps = spawn_rows(&world, &rays);
+    world.settings_mut().offset = Offset::ErrorBound;
+    let bound = spawn_rows(&world, &rays);
     let ground = |r: &[f32; 9]| r[2] == 1.0;
     for ((row, e), b) in double.iter().zip(&eps).zip(&bound) {
         if ground(row) {

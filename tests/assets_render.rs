@@ -3,8 +3,9 @@
 
 mod common;
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::accel::{AccelKind, BuildOptions};
 use lumis::render::{RenderOptions, render};
+use lumis::scene::World;
 
 #[test]
 fn every_asset_loads_and_renders() {
@@ -21,8 +22,8 @@ fn every_asset_loads_and_renders() {
             lumis::formats::load(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         let st = scene.settings_mut();
         (st.width, st.height, st.spp) = (24, 16, 1);
-        let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
-        let film = render(&scene, &accel, &RenderOptions::default())
+        let world = World::build(scene.clone(), AccelKind::Sah, &BuildOptions::default());
+        let film = render(&world, &RenderOptions::default())
             .unwrap_or_else(|e| panic!("{}: {e}", file.display()))
             .film;
         let seen = film.aov().iter().filter(|a| a.object_id >= 0).count();

@@ -4,14 +4,14 @@
 
 use std::path::{Path, PathBuf};
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::accel::{AccelKind, BuildOptions};
 use lumis::formats::{self, LoadOptions};
 use lumis::geometry::Mesh;
 use lumis::light::Light;
 use lumis::material::Texture;
 use lumis::math::{Aabb, Vec3};
 use lumis::render::{RenderOptions, render};
-use lumis::scene::Scene;
+use lumis::scene::{Scene, World};
 use lumis::texture::srgb_to_linear;
 
 fn asset(name: &str) -> PathBuf {
@@ -64,9 +64,9 @@ fn gltf_bin_data_uri_and_glb_render_identical_depth_and_ids() {
             s.set_camera(cam);
             let st = s.settings_mut();
             (st.width, st.height, st.spp) = (48, 32, 1);
-            let accel = Accel::build_for(
+            let world = World::build(
+                s.clone(),
                 AccelKind::Sah,
-                s.geometry(),
                 &BuildOptions { max_leaf_size: 4 },
             );
             let opts = RenderOptions {
@@ -74,7 +74,7 @@ fn gltf_bin_data_uri_and_glb_render_identical_depth_and_ids() {
                 threads: Some(1),
                 ..RenderOptions::default()
             };
-            render(&s, &accel, &opts).unwrap().film
+            render(&world, &opts).unwrap().film
         })
         .collect();
     let hits = films[0].aov().iter().filter(|a| a.prim_id >= 0).count();

@@ -8,14 +8,14 @@ mod common;
 use std::path::PathBuf;
 use std::process::Command;
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::accel::{AccelKind, BuildOptions};
 use lumis::camera::Camera;
 use lumis::film::Film;
 use lumis::formats;
 use lumis::light::Light;
 use lumis::math::{Ray, Vec3};
 use lumis::render::{RenderOptions, render};
-use lumis::scene::Scene;
+use lumis::scene::{Scene, World};
 
 fn asset(name: &str) -> PathBuf {
     common::files::root()
@@ -36,13 +36,13 @@ fn render_front(s: &mut Scene, size: u32, kind: AccelKind) -> Film {
     s.set_camera(cam);
     let st = s.settings_mut();
     (st.width, st.height, st.spp, st.ambient) = (size, size, 1, Vec3::ONE);
-    let accel = Accel::build_for(kind, s.geometry(), &BuildOptions::default());
+    let world = World::build(s.clone(), kind, &BuildOptions::default());
     let opts = RenderOptions {
         seed: 1,
         threads: Some(2),
         ..RenderOptions::default()
     };
-    render(s, &accel, &opts).unwrap().film
+    render(&world, &opts).unwrap().film
 }
 
 /// The irradiance of the scene's one directional light.
@@ -231,13 +231,13 @@ fn quantized_mesh_matches_the_float_one() {
         .map(|mut s| {
             let st = s.settings_mut();
             (st.width, st.height, st.spp) = (32, 24, 1);
-            let accel = Accel::build_for(AccelKind::Sah, s.geometry(), &BuildOptions::default());
+            let world = World::build(s.clone(), AccelKind::Sah, &BuildOptions::default());
             let opts = RenderOptions {
                 seed: 1,
                 threads: Some(1),
                 ..RenderOptions::default()
             };
-            render(&s, &accel, &opts).unwrap().film
+            render(&world, &opts).unwrap().film
         })
         .collect();
     let seen = films[0].aov().iter().filter(|a| a.prim_id >= 0).count();
@@ -271,11 +271,11 @@ fn alpha_mask_cuts_holes_for_camera_and_shadow_rays_in_every_accelerator() {
     assert_rgb(film, 3, 8, wall, "wall through the hole");
     assert_rgb(film, 12, 8, quad, "opaque half");
     // Shadow rays from the wall towards the light: blocked behind the opaque half only.
-    let accel = common::brute(s.geometry());
+    let world = World::build(s, AccelKind::Brute, &BuildOptions::default());
     let mut stats = Default::default();
     let up = |x: f32| Ray::segment(Vec3::new(x, 0.5, -0.999), Vec3::Z, 10.0);
-    assert!(s.occluded(&accel, &up(0.5), &mut stats));
-    assert!(!s.occluded(&accel, &up(-0.5), &mut stats));
+    assert!(world.occluded(&up(0.5), &mut stats));
+    assert!(!world.occluded(&up(-0.5), &mut stats));
 }
 
 #[test]

@@ -4,12 +4,12 @@
 
 use std::path::{Path, PathBuf};
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::accel::{AccelKind, BuildOptions};
 use lumis::film::Film;
 use lumis::formats;
 use lumis::light::Light;
 use lumis::render::{RenderOptions, render};
-use lumis::scene::Scene;
+use lumis::scene::{Scene, World};
 
 fn asset(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -24,9 +24,9 @@ fn load(name: &str) -> Scene {
 fn render_at(mut s: Scene, width: u32, height: u32) -> Film {
     let st = s.settings_mut();
     (st.width, st.height, st.spp) = (width, height, 1);
-    let accel = Accel::build_for(
+    let world = World::build(
+        s.clone(),
         AccelKind::Sah,
-        s.geometry(),
         &BuildOptions { max_leaf_size: 4 },
     );
     let opts = RenderOptions {
@@ -34,7 +34,7 @@ fn render_at(mut s: Scene, width: u32, height: u32) -> Film {
         threads: Some(2),
         ..RenderOptions::default()
     };
-    render(&s, &accel, &opts).unwrap().film
+    render(&world, &opts).unwrap().film
 }
 
 fn warned(s: &Scene, pieces: &[&str]) -> bool {

@@ -5,12 +5,12 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::accel::{AccelKind, BuildOptions};
 use lumis::formats;
 use lumis::material::{Material, Texture};
 use lumis::math::{Vec2, Vec3};
 use lumis::render::{RenderOptions, render};
-use lumis::scene::Scene;
+use lumis::scene::{Scene, World};
 use lumis::texture::srgb_to_linear;
 
 fn asset(name: &str) -> PathBuf {
@@ -199,13 +199,13 @@ fn textured_quad_renders_its_texels() {
         150,
         None,
     ));
-    let accel = Accel::build_for(AccelKind::Sah, s.geometry(), &BuildOptions::default());
+    let world = World::build(s.clone(), AccelKind::Sah, &BuildOptions::default());
     let opts = RenderOptions {
         seed: 3,
         threads: Some(2),
         ..RenderOptions::default()
     };
-    let film = render(&s, &accel, &opts).unwrap().film;
+    let film = render(&world, &opts).unwrap().film;
     let (w, h) = (s.settings().width, s.settings().height);
     let to_ndc = s.camera().world_to_ndc(w, h);
     // A pixel's sample lies within half a pixel (1/30 texel) of the texel centre, where

@@ -6,12 +6,12 @@
 mod common;
 
 use common::files::paper_scenes;
-use lumis::accel::{Accel, AccelKind, BuildOptions, SegmentParams, Traversal};
+use lumis::accel::{AccelKind, BuildOptions, SegmentParams, Traversal};
 use lumis::camera::Lens;
 use lumis::film::Film;
 use lumis::formats::load;
 use lumis::render::{RenderOptions, render};
-use lumis::scene::Scene;
+use lumis::scene::{Scene, World};
 
 fn bits(film: &Film) -> Vec<u32> {
     let rgba = film.rgba().iter().flat_map(|p| p.to_array());
@@ -32,10 +32,9 @@ fn render_with(scene: &Scene, kind: AccelKind, traversal: Traversal) -> Film {
     let opts = BuildOptions {
         max_leaf_size: kind.default_leaf_size(),
     };
-    let accel = Accel::build_for(kind, scene.geometry(), &opts).with_traversal(traversal);
+    let world = World::build(scene.clone(), kind, &opts).with_traversal(traversal);
     render(
-        scene,
-        &accel,
+        &world,
         &RenderOptions {
             seed: 3,
             threads: None,

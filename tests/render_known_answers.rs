@@ -1,7 +1,7 @@
 //! Renders into memory with analytic expectations: Lambert under a point light, a mirror, a
 //! glass slab at normal incidence, a shadowed pixel, effect gating, thread-count invariance.
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::accel::{AccelKind, BuildOptions};
 use lumis::camera::Camera;
 use lumis::film::Film;
 use lumis::geometry::{Mesh, Sphere};
@@ -10,7 +10,7 @@ use lumis::light::Light;
 use lumis::material::{Material, Texture};
 use lumis::math::{Vec2, Vec3, Vec4};
 use lumis::render::{RenderOptions, render};
-use lumis::scene::{Scene, SceneBuilder};
+use lumis::scene::{Scene, SceneBuilder, World};
 use std::f32::consts::PI;
 
 fn quad(center: Vec3, u: Vec3, v: Vec3) -> Mesh {
@@ -46,10 +46,9 @@ fn builder(w: u32, h: u32, spp: u32) -> SceneBuilder {
 }
 
 fn run(scene: &Scene, threads: usize) -> (Film, RayCounts) {
-    let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
+    let world = World::build(scene.clone(), AccelKind::Sah, &BuildOptions::default());
     let r = render(
-        scene,
-        &accel,
+        &world,
         &RenderOptions {
             seed: 7,
             threads: Some(threads),

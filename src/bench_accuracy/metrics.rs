@@ -1,11 +1,12 @@
 //! Error of one rendering against the converged reference, and disagreement of one precision
 //! and offset with float64 brute force on the same ray queries.
 
-use crate::accel::{Accel, AccelKind, BuildOptions, TraversalStats};
+use crate::accel::{AccelKind, BuildOptions, TraversalStats};
 use crate::film::Film;
 use crate::geometry::{Offset, Precision, SurfacePoint};
 use crate::math::{Ray, Vec2, Vec3};
 use crate::scene::Scene;
+use crate::scene::World;
 
 /// Relative part of the acne / lost-shadow threshold: a pixel counts when its luminance is
 /// off the reference's by more than `REL * Y_ref + ABS`.
@@ -152,21 +153,22 @@ impl Oracle {
     pub fn new(scene: &Scene) -> Self {
         let mut s64 = scene.clone();
         s64.settings_mut().precision = Precision::Double;
-        let brute = Accel::build_for(AccelKind::Brute, s64.geometry(), &BuildOptions::default());
+        let s64 = World::build(s64, AccelKind::Brute, &BuildOptions::default());
         let mut stats = TraversalStats::default();
         let truths = centre_rays(scene)
             .into_iter()
             .map(|ray| {
-                let hit = s64.intersect(&brute, &ray, &mut stats);
+                let hit = s64.intersect(&ray, &mut stats);
                 let shadows = match &hit {
                     None => Vec::new(),
                     Some(i) => {
                         let ng = facing(&i.surface, &ray);
-                        s64.lights()
+                        s64.scene()
+                            .lights()
                             .iter()
                             .map(|l| {
                                 shadow_ray(&i.surface, ng, l, Offset::ErrorBound)
-                                    .map(|r| s64.occluded(&brute, &r, &mut stats))
+                                    .map(|r| s64.occluded(&r, &mut stats))
                             })
                             .collect()
                     }
@@ -181,16 +183,17 @@ impl Oracle {
         Oracle { truths }
     }
 
-    /// Compares `scene` (with the precision and offset under test in its settings) through
-    /// `accel` with the oracle on the same camera rays, and on the shadow rays of the hits
+    /// Compares `world` (with the precision and offset under test in its settings) with the
+    /// oracle on the same camera rays, and on the shadow rays of the hits
     /// where both find the same primitive (each side spawning from its own hit point).
-    pub fn compare(&self, scene: &Scene, accel: &Accel) -> QueryError {
+    pub fn compare(&self, world: &World) -> QueryError {
+        let scene = world.scene();
         let offset = scene.settings().offset;
         let mut stats = TraversalStats::default();
         let mut e = QueryError::default();
         for t in &self.truths {
             e.rays += 1;
-            let got = scene.intersect(accel, &t.ray, &mut stats);
+            let got = world.intersect(&t.ray, &mut stats);
             let (Some((prim, _)), Some(i)) = (&t.hit, &got) else {
                 e.hit_miss += usize::from(t.hit.is_some() != got.is_some());
                 continue;
@@ -206,7 +209,7 @@ impl Oracle {
                     continue;
                 };
                 e.shadow_rays += 1;
-                e.shadow += usize::from(scene.occluded(accel, &r, &mut stats) != *truth);
+                e.shadow += usize::from(world.occluded(&r, &mut stats) != *truth);
             }
         }
         e

@@ -3,10 +3,11 @@
 use super::Row;
 use super::metrics::{Oracle, image_error};
 use super::scenes::BenchScene;
-use crate::accel::{Accel, AccelKind, BuildOptions};
+use crate::accel::{AccelKind, BuildOptions};
 use crate::geometry::{Offset, Precision};
 use crate::render::{RenderOptions, render};
 use crate::scene::Settings;
+use crate::scene::World;
 use anyhow::{Context, Result};
 use std::collections::HashMap;
 use std::time::Instant;
@@ -149,7 +150,7 @@ pub struct SweepOptions {
 pub fn sweep_scene(bs: &BenchScene, opts: &SweepOptions) -> Result<Vec<Row>> {
     let mut scene = bs.scene.clone();
     (scene.settings_mut().width, scene.settings_mut().height) = (opts.width, opts.height);
-    let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
+    let mut world = World::build(scene, AccelKind::Sah, &BuildOptions::default());
     let points = points();
     let ropts = RenderOptions {
         threads: opts.threads,
@@ -159,13 +160,13 @@ pub fn sweep_scene(bs: &BenchScene, opts: &SweepOptions) -> Result<Vec<Row>> {
     let mut films = vec![None; points.len()];
     // One untimed render first: the default is timed first in each round and would otherwise
     // pay for cold caches and thread-pool start-up, inflating every other point's speed-up.
-    points[0].knobs.apply(scene.settings_mut());
-    render(&scene, &accel, &ropts)?;
+    points[0].knobs.apply(world.settings_mut());
+    render(&world, &ropts)?;
     for _ in 0..opts.rounds.max(1) {
         for (i, p) in points.iter().enumerate() {
-            p.knobs.apply(scene.settings_mut());
+            p.knobs.apply(world.settings_mut());
             let start = Instant::now();
-            let r = render(&scene, &accel, &ropts)
+            let r = render(&world, &ropts)
                 .with_context(|| format!("{}: {} {}", bs.name, p.knob, p.value))?;
             times[i].push(start.elapsed().as_secs_f64());
             // Rendering is deterministic, so the first round's image stands for all.
@@ -178,7 +179,7 @@ pub fn sweep_scene(bs: &BenchScene, opts: &SweepOptions) -> Result<Vec<Row>> {
     };
     let seconds: Vec<f64> = times.iter_mut().map(median).collect();
     let reference = films[points.len() - 1].take().expect("rendered");
-    let oracle = Oracle::new(&scene);
+    let oracle = Oracle::new(world.scene());
     // Queries depend only on precision and offset: compare each pair once.
     let mut queries = HashMap::new();
     let mut rows = Vec::new();
@@ -186,8 +187,8 @@ pub fn sweep_scene(bs: &BenchScene, opts: &SweepOptions) -> Result<Vec<Row>> {
         let film = films[i].as_ref().unwrap_or(&reference);
         let key = (p.knobs.precision.name(), p.knobs.offset.to_string());
         let q = *queries.entry(key).or_insert_with(|| {
-            p.knobs.apply(scene.settings_mut());
-            oracle.compare(&scene, &accel)
+            p.knobs.apply(world.settings_mut());
+            oracle.compare(&world)
         });
         rows.push(Row {
             scene: bs.name.clone(),

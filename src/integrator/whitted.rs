@@ -8,18 +8,17 @@
 //! exact zero, so both produce the same bits.
 
 use super::RayCounts;
-use crate::accel::Accel;
 use crate::effects::{Analysis, EffectMode, MaterialTraits};
 use crate::geometry::{Offset, SurfacePoint};
 use crate::light::LightSample;
 use crate::material::{Material, fresnel_dielectric, reflect, refract};
 use crate::math::{Ray, Vec3};
-use crate::scene::{Interaction, Scene};
+use crate::scene::{Interaction, Scene, World};
 
-/// The Whitted integrator over one scene and its accelerator.
+/// The Whitted integrator over one world (a scene and its accelerator).
 pub struct Whitted<'a> {
+    world: &'a World,
     scene: &'a Scene,
-    accel: &'a Accel,
     analysis: &'a Analysis,
     all: bool,
     max_depth: u32,
@@ -44,12 +43,13 @@ struct Shading<'m> {
 }
 
 impl<'a> Whitted<'a> {
-    /// An integrator that traces what `analysis` (made for `scene`) decided.
-    pub fn new(scene: &'a Scene, accel: &'a Accel, analysis: &'a Analysis) -> Self {
+    /// An integrator that traces what `analysis` (made for `world`'s scene) decided.
+    pub fn new(world: &'a World, analysis: &'a Analysis) -> Self {
+        let scene = world.scene();
         let st = scene.settings();
         Self {
+            world,
             scene,
-            accel,
             analysis,
             all: analysis.mode == EffectMode::All,
             max_depth: st.max_depth,
@@ -59,15 +59,15 @@ impl<'a> Whitted<'a> {
         }
     }
 
-    /// The accelerator rays are traced through.
-    pub fn accel(&self) -> &'a Accel {
-        self.accel
+    /// The world rays are traced through.
+    pub fn world(&self) -> &'a World {
+        self.world
     }
 
     /// Radiance arriving along camera ray `ray`.
     pub fn camera_ray(&self, ray: &Ray, counts: &mut RayCounts) -> CameraSample {
         counts.camera += 1;
-        match self.scene.intersect(self.accel, ray, &mut counts.traversal) {
+        match self.world.intersect(ray, &mut counts.traversal) {
             Some(hit) => CameraSample {
                 radiance: if self.all {
                     self.shade::<true>(ray, &hit, 0, 1.0, counts)
@@ -95,7 +95,7 @@ impl<'a> Whitted<'a> {
         weight: f32,
         counts: &mut RayCounts,
     ) -> Vec3 {
-        match self.scene.intersect(self.accel, ray, &mut counts.traversal) {
+        match self.world.intersect(ray, &mut counts.traversal) {
             Some(hit) => self.shade::<ALL>(ray, &hit, depth, weight, counts),
             None => self.scene.settings().background,
         }
@@ -254,11 +254,10 @@ impl<'a> Whitted<'a> {
                 f32::INFINITY
             };
             counts.shadow += 1;
-            if !self.scene.occluded(
-                self.accel,
-                &Ray::segment(origin, ls.wi, t_max),
-                &mut counts.traversal,
-            ) {
+            if !self
+                .world
+                .occluded(&Ray::segment(origin, ls.wi, t_max), &mut counts.traversal)
+            {
                 l += c;
             }
         }

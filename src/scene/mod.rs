@@ -1,11 +1,12 @@
 //! The scene model: geometry, the objects that own it, materials, lights, camera and render
-//! settings, plus ray queries through an accelerator.
+//! settings; [`World`] pairs a scene with the accelerator built over it for ray queries.
 //!
 //! File formats live in [`crate::formats`]; each builds a `Scene` through [`SceneBuilder`].
 
 mod auto;
 mod builder;
 mod settings;
+mod world;
 
 pub use auto::{UpAxis, default_rig, framing_camera};
 pub use builder::SceneBuilder;
@@ -13,13 +14,12 @@ pub use settings::{
     DEFAULT_CUTOFF, MAX_DEPTH, MAX_LENS_SAMPLES, MAX_PIXELS, MAX_SIDE, MAX_SPP, Settings,
     SettingsError,
 };
+pub use world::World;
 
-use crate::accel::{Accel, Hit, TraversalStats};
 use crate::camera::Camera;
 use crate::geometry::{Geometry, SurfacePoint};
 use crate::light::Light;
 use crate::material::Material;
-use crate::math::Ray;
 
 /// A named thing in the scene (a sphere or a mesh) with one material.
 #[derive(Clone, Debug, PartialEq)]
@@ -111,42 +111,5 @@ impl Scene {
     /// Replaces the camera.
     pub fn set_camera(&mut self, camera: Camera) {
         self.camera = camera;
-    }
-
-    /// Nearest hit of `ray` through `accel` (built over `self.geometry().prim_bounds()`).
-    pub fn intersect(
-        &self,
-        accel: &Accel,
-        ray: &Ray,
-        stats: &mut TraversalStats,
-    ) -> Option<Interaction> {
-        let Hit { prim, hit } = self.intersect_hit(accel, ray, stats)?;
-        let mut hit_ray = *ray;
-        hit_ray.t_max = hit.t;
-        let object = self.object_of(prim);
-        // Texture coordinates only where a texture reads them (a sphere's cost two inverse
-        // trigonometric calls); elsewhere they stay 0, which nothing reads.
-        let uv = self.material_of(object).reads_uv();
-        Some(Interaction {
-            t: hit.t,
-            prim,
-            object,
-            surface: self.geometry.surface(prim, &hit_ray, &hit, uv),
-        })
-    }
-
-    /// The nearest primitive hit of `ray`, before any surface is computed.
-    pub fn intersect_hit(
-        &self,
-        accel: &Accel,
-        ray: &Ray,
-        stats: &mut TraversalStats,
-    ) -> Option<Hit> {
-        accel.intersect_geometry(&self.geometry, self.settings.precision, ray, stats)
-    }
-
-    /// True when something blocks `ray` within `(t_min, t_max]`.
-    pub fn occluded(&self, accel: &Accel, ray: &Ray, stats: &mut TraversalStats) -> bool {
-        accel.occluded_geometry(&self.geometry, self.settings.precision, ray, stats)
     }
 }

@@ -9,7 +9,7 @@ use lumis::light::Light;
 use lumis::material::{Material, Texture};
 use lumis::math::Vec3;
 use lumis::render::{RenderOptions, render};
-use lumis::scene::{Scene, SceneBuilder};
+use lumis::scene::{Scene, SceneBuilder, World};
 
 const W: u32 = 24;
 const H: u32 = 16;
@@ -201,17 +201,17 @@ fn aov_rays_only_when_the_output_has_aov_layers() {
         matte(0.5),
         vec![point(Vec3::Y * 5.0, 50.0)],
     ));
-    let accel = lumis::accel::Accel::build_for(
+    let world = World::build(
+        scene.clone(),
         lumis::accel::AccelKind::Sah,
-        scene.geometry(),
         &lumis::accel::BuildOptions::default(),
     );
     let png_only = RenderOptions {
         aov_layers: false,
         ..RenderOptions::default()
     };
-    let without = render(&scene, &accel, &png_only).expect("render");
-    let with = render(&scene, &accel, &RenderOptions::default()).expect("render");
+    let without = render(&world, &png_only).expect("render");
+    let with = render(&world, &RenderOptions::default()).expect("render");
     let pixels = u64::from(W * H);
     assert_eq!(
         (without.counts.aov, without.counts.not_traced.aov),
@@ -222,8 +222,7 @@ fn aov_rays_only_when_the_output_has_aov_layers() {
     assert!(without.film.aov().iter().all(|a| a.object_id == -1));
     // The reference traces them even for a PNG.
     let all = render(
-        &scene,
-        &accel,
+        &world,
         &RenderOptions {
             effects: EffectMode::All,
             ..png_only

@@ -9,20 +9,20 @@ mod identical;
 mod levels;
 mod stats_json;
 
-use lumis::accel::{Accel, AccelKind, BuildOptions};
+use lumis::accel::{AccelKind, BuildOptions};
 use lumis::effects::EffectMode;
 use lumis::film::Film;
 use lumis::render::{RenderOptions, Rendered, render};
-use lumis::scene::Scene;
+use lumis::scene::{Scene, World};
 
 /// Renders `scene` under `mode` with every AOV layer.
 pub fn render_mode(scene: &Scene, mode: EffectMode) -> Rendered {
-    let accel = Accel::build_for(AccelKind::Sah, scene.geometry(), &BuildOptions::default());
+    let world = World::build(scene.clone(), AccelKind::Sah, &BuildOptions::default());
     let opts = RenderOptions {
         effects: mode,
         ..RenderOptions::default()
     };
-    render(scene, &accel, &opts).expect("render")
+    render(&world, &opts).expect("render")
 }
 
 /// Panics unless two films hold the same bits in RGBA and every AOV layer.

@@ -7,6 +7,7 @@ use super::common::all_kinds;
 use lumis::accel::{Accel, AccelKind, BuildOptions, Hit, SegmentParams, Traversal, TraversalStats};
 use lumis::geometry::{Geometry, Precision, WatertightRay};
 use lumis::math::Ray;
+use lumis::scene::World;
 
 /// The traversals every hierarchy is walked with: ordered, the paper's exhaustive recursion, and
 /// segment marching with short (many segment boundaries) and the paper's segment lengths.
@@ -116,23 +117,18 @@ impl<'a> Everywhere<'a> {
 /// films (colour and every AOV) are bit-identical to brute force's, and returns that film:
 /// the rendered hard cases hold for every configuration, not just the default.
 pub fn render_everywhere(scene: &lumis::scene::Scene) -> lumis::film::Film {
-    let bounds = scene.geometry().prim_bounds();
     let opts = lumis::render::RenderOptions::default();
-    let film = |accel: &Accel| {
-        lumis::render::render(scene, accel, &opts)
-            .expect("renders")
-            .film
-    };
-    let reference = film(&Accel::build(
+    let film = |world: &World| lumis::render::render(world, &opts).expect("renders").film;
+    let reference = film(&World::build(
+        scene.clone(),
         AccelKind::Brute,
-        &bounds,
         &BuildOptions::default(),
     ));
     for kind in all_kinds() {
         let opts = BuildOptions {
             max_leaf_size: kind.default_leaf_size(),
         };
-        let built = Accel::build_for(kind, scene.geometry(), &opts);
+        let built = World::build(scene.clone(), kind, &opts);
         for t in traversals() {
             let f = film(&built.clone().with_traversal(t));
             assert!(

@@ -48,8 +48,7 @@ impl Loader<'_> {
                 let path = resolve(self.origin, file);
                 let bytes = self.read_asset(e, &path)?;
                 let text = String::from_utf8_lossy(&bytes);
-                let mesh =
-                    parse_m(&text, &path).map_err(|err| self.asset_error(e, &path, err.into()))?;
+                let mesh = parse_m(&text, &path).map_err(|err| self.asset_error(e, &path, err))?;
                 let material = self.material_ref(e, m.material.as_deref())?;
                 self.builder
                     .add_mesh(name, self.finish(e, m, mesh, &xf)?, material);

@@ -1,0 +1,89 @@
+//! [`World`]: a scene together with the accelerator built over its own primitives.
+//!
+//! An accelerator only answers for the geometry it was built over (its leaves hold primitive
+//! indices, its packed leaves copies of the triangles). Owning both in one value, built in one
+//! place, makes pairing a scene with another scene's accelerator impossible to write.
+
+use super::{Interaction, Scene, Settings};
+use crate::accel::{Accel, AccelKind, BuildOptions, Hit, Traversal, TraversalStats};
+use crate::camera::Camera;
+use crate::math::Ray;
+
+/// A scene and the accelerator over its primitives: what renders and ray queries take.
+#[derive(Clone, Debug)]
+pub struct World {
+    scene: Scene,
+    accel: Accel,
+}
+
+impl World {
+    /// Builds accelerator `kind` over `scene`'s primitives.
+    pub fn build(scene: Scene, kind: AccelKind, opts: &BuildOptions) -> Self {
+        let accel = Accel::build_for(kind, scene.geometry(), opts);
+        Self { scene, accel }
+    }
+
+    /// The same world walked with `traversal` (see [`Accel::with_traversal`]).
+    pub fn with_traversal(self, traversal: Traversal) -> Self {
+        Self {
+            accel: self.accel.with_traversal(traversal),
+            scene: self.scene,
+        }
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The accelerator (built over [`Self::scene`]'s primitives).
+    pub fn accel(&self) -> &Accel {
+        &self.accel
+    }
+
+    /// Render settings to change after the build (no setting changes the geometry).
+    pub fn settings_mut(&mut self) -> &mut Settings {
+        self.scene.settings_mut()
+    }
+
+    /// Replaces the camera (the geometry, and so the accelerator, stay).
+    pub fn set_camera(&mut self, camera: Camera) {
+        self.scene.set_camera(camera);
+    }
+
+    /// Gives the scene back.
+    pub fn into_scene(self) -> Scene {
+        self.scene
+    }
+
+    /// Nearest hit of `ray`, with its surface.
+    pub fn intersect(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<Interaction> {
+        let Hit { prim, hit } = self.intersect_hit(ray, stats)?;
+        let mut hit_ray = *ray;
+        hit_ray.t_max = hit.t;
+        let object = self.scene.object_of(prim);
+        // Texture coordinates only where a texture reads them (a sphere's cost two inverse
+        // trigonometric calls); elsewhere they stay 0, which nothing reads.
+        let uv = self.scene.material_of(object).reads_uv();
+        Some(Interaction {
+            t: hit.t,
+            prim,
+            object,
+            surface: self.scene.geometry().surface(prim, &hit_ray, &hit, uv),
+        })
+    }
+
+    /// The nearest primitive hit of `ray`, before any surface is computed.
+    pub fn intersect_hit(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<Hit> {
+        let precision = self.scene.settings().precision;
+        self.accel
+            .intersect_geometry(self.scene.geometry(), precision, ray, stats)
+    }
+
+    /// True when something blocks `ray` within `(t_min, t_max]`.
+    pub fn occluded(&self, ray: &Ray, stats: &mut TraversalStats) -> bool {
+        let precision = self.scene.settings().precision;
+        self.accel
+            .occluded_geometry(self.scene.geometry(), precision, ray, stats)
+    }
+}
