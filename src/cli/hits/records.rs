@@ -25,11 +25,11 @@ use std::path::{Path, PathBuf};
 use npyz::WriterBuilder;
 use rayon::prelude::*;
 
-use crate::accel::{Accel, Hit, TraversalStats};
-use crate::geometry::{PrimHit, Primitive, with_prim_test};
-use crate::math::{Ray, Vec3};
-use crate::output::{OutputError, write_atomically};
-use crate::scene::Scene;
+use lumis::accel::{Accel, Hit, TraversalStats};
+use lumis::geometry::{Precision, PrimHit, Primitive, WatertightRay};
+use lumis::math::{Ray, Vec3};
+use lumis::output::{OutputError, write_atomically};
+use lumis::scene::Scene;
 
 /// Floats per input ray row.
 pub const RAY_COLUMNS: usize = 8;
@@ -227,9 +227,18 @@ impl Query {
         stats: &mut TraversalStats,
     ) -> [f32; HIT_COLUMNS] {
         if any_hit {
-            let (g, precision) = (scene.geometry(), scene.settings().precision);
-            return with_prim_test!(g, precision, &self.ray, |test| self
-                .blocker_row(accel, stats, test));
+            let (g, ray) = (scene.geometry(), &self.ray);
+            // One traversal instantiation per precision, chosen once per ray, not per primitive.
+            return match scene.settings().precision {
+                Precision::Watertight => {
+                    let wr = WatertightRay::new(ray.dir);
+                    self.blocker_row(accel, stats, |p, r| g.intersect(p, r, &wr))
+                }
+                Precision::Fast => self.blocker_row(accel, stats, |p, r| g.intersect_fast(p, r)),
+                Precision::Double => {
+                    self.blocker_row(accel, stats, |p, r| g.intersect_double(p, r))
+                }
+            };
         }
         let ray = &self.ray;
         let g = scene.geometry();
