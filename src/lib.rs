@@ -5,16 +5,11 @@
 //! camera rays through an integrator into a [`film::Film`], and [`output`] writes it.
 
 pub mod accel;
-pub mod bench;
-pub mod bench_accuracy;
-pub mod bench_effects;
-pub mod bench_load;
 pub mod camera;
 pub mod effects;
 pub mod film;
 pub mod formats;
 pub mod geometry;
-pub mod hits;
 pub mod integrator;
 pub mod light;
 pub mod material;
@@ -23,5 +18,4 @@ pub mod output;
 pub mod render;
 pub mod rng;
 pub mod scene;
-pub mod stats;
 pub mod texture;

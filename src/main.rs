@@ -1,19 +1,12 @@
-//! The `lumis` command line: `lumis [render] [SCENE] ...`.
+//! The `lumis` command line: `lumis [render] [SCENE] ...`. Parses and dispatches; each
+//! subcommand lives in its own module under `cli/`.
 
-use anyhow::{Context, Result, bail};
-use clap::{Args, Parser, Subcommand};
-mod cli_accel;
-mod cli_accuracy;
-mod cli_bench;
-mod cli_hits;
-mod cli_info;
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
 
-use lumis::output::{ExrMetadata, write_by_extension};
-use lumis::render::{RenderOptions, render};
-use lumis::stats::{PhaseTimes, summary, summary_json};
-use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
-use std::time::Instant;
+mod cli;
+
+use cli::{bench, hits, info, render};
 
 /// lumis: an offline Whitted-style ray tracer.
 #[derive(Parser, Debug)]
@@ -23,13 +16,13 @@ struct Cli {
     command: Option<Command>,
     /// With no subcommand, `lumis [SCENE] [OPTIONS]` renders, like `lumis render`.
     #[command(flatten)]
-    render: RenderArgs,
+    render: render::RenderArgs,
 }
 
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Render a scene (the default scene when none is given) to EXR and/or PNG.
-    Render(RenderArgs),
+    Render(render::RenderArgs),
     /// Print what a scene or model file holds (geometry, materials, lights, camera, bounds,
     /// warnings) without rendering.
     Info {
@@ -38,285 +31,23 @@ enum Command {
     },
     /// Trace a batch of rays from an .npy file and write one hit record per ray (for
     /// cross-checks against other tracers).
-    Hits(cli_hits::HitsArgs),
+    Hits(hits::HitsArgs),
     /// Measure performance.
     #[command(subcommand)]
-    Bench(BenchCommand),
-}
-
-#[derive(Subcommand, Debug)]
-enum BenchCommand {
-    /// The paper's Table I: every scene under bsp, bsmp and sah with and without scale lights.
-    Paper(cli_bench::PaperArgs),
-    /// Load time and peak memory for a generated >= 1M-triangle OBJ and GLB.
-    Load(cli_bench::LoadArgs),
-    /// Error against a converged reference vs render time for every accuracy knob, one axis
-    /// at a time from the defaults; CSV and a plot.
-    Accuracy(cli_bench::AccuracyArgs),
-    /// What the effect decisions save: time and rays by kind of the default render against
-    /// `--effects all`, per scene, in the same run.
-    Effects(cli_bench::EffectsArgs),
-    /// One load, for `bench load`'s child processes: prints seconds and peak bytes.
-    #[command(hide = true)]
-    LoadOne {
-        /// The file to load.
-        file: PathBuf,
-    },
-}
-
-#[derive(Args, Debug)]
-struct RenderArgs {
-    /// Scene file (.toml, .scn, .obj, .gltf or .glb); the built-in default scene when omitted.
-    scene: Option<PathBuf>,
-    /// Output image; the format follows the extension (.exr or .png). Default: out.exr and out.png.
-    #[arg(short, long)]
-    output: Option<PathBuf>,
-    /// Also write a PNG preview here.
-    #[arg(long)]
-    png: Option<PathBuf>,
-    /// Image width (overrides the scene).
-    #[arg(long)]
-    width: Option<u32>,
-    /// Image height (overrides the scene).
-    #[arg(long)]
-    height: Option<u32>,
-    /// Samples per pixel along each axis: N gives NxN stratified samples.
-    #[arg(long)]
-    spp: Option<u32>,
-    /// Maximum reflection/refraction depth.
-    #[arg(long)]
-    max_depth: Option<u32>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    threads: Option<usize>,
-    /// Seed of the sample streams.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
-    #[command(flatten)]
-    accel: cli_accel::AccelArgs,
-    #[command(flatten)]
-    accuracy: cli_accuracy::AccuracyArgs,
-    #[command(flatten)]
-    cutoff: cli_accuracy::CutoffArgs,
-    /// glTF files: index of the scene to render (default: the file's default scene).
-    #[arg(long, value_name = "N")]
-    gltf_scene: Option<usize>,
-    /// glTF files: look through the N-th camera met depth first in the scene (default: the
-    /// first; the automatic framing camera when the file has none).
-    #[arg(long, value_name = "N")]
-    camera: Option<usize>,
-    /// glTF and OBJ files: ignore the file's cameras and frame the model automatically.
-    #[arg(long, conflicts_with = "camera")]
-    auto_camera: bool,
-    /// glTF and OBJ files: the model axis that points up; the model is turned so that it is
-    /// up in lumis's Y-up world before the automatic camera and lights are placed (default: y,
-    /// glTF's convention).
-    #[arg(long, value_enum, value_name = "AXIS")]
-    up: Option<lumis::scene::UpAxis>,
-    /// Exposure in stops: linear colour x 2^EV before the EXR and the PNG are written
-    /// (recorded in the EXR header as lumis/exposure). Default: the scene's `exposure`; for
-    /// glTF and OBJ files automatic (a high percentile of the model's luminance to 0.8).
-    #[arg(long, value_name = "EV", allow_negative_numbers = true)]
-    exposure: Option<f32>,
-    /// Write 32-bit float RGBA to EXR instead of half.
-    #[arg(long)]
-    float: bool,
-    /// PNG encoding: the sRGB curve, or clamp (value x 255, no curve, as the paper's program).
-    /// Default: the scene's `display`, else srgb (clamp for .scn scenes). EXR stays linear.
-    #[arg(long, value_enum)]
-    display: Option<lumis::output::DisplayTransform>,
-    /// No progress bar and no summary.
-    #[arg(short, long)]
-    quiet: bool,
-    /// Add traversal counters and every effect decision, with the rays it saved, to the
-    /// summary.
-    #[arg(long)]
-    stats: bool,
-    /// Also write the summary (times, rays traced by kind, rays not traced by reason, effect
-    /// decisions) as JSON to this file.
-    #[arg(long, value_name = "FILE")]
-    stats_json: Option<PathBuf>,
-    /// `auto`: trace only what can change the image; `all`: every effect, from every hit to
-    /// every light, no cutoff (the reference `auto` is bit-identical to at cutoff 0).
-    #[arg(long, value_name = "MODE", default_value = "auto")]
-    effects: lumis::effects::EffectMode,
+    Bench(bench::BenchCommand),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Some(Command::Render(args)) => run_render(args),
-        Some(Command::Bench(BenchCommand::Paper(args))) => cli_bench::run_paper(args),
-        Some(Command::Bench(BenchCommand::Load(args))) => cli_bench::run_load(args),
-        Some(Command::Bench(BenchCommand::Accuracy(args))) => cli_bench::run_accuracy(args),
-        Some(Command::Bench(BenchCommand::Effects(args))) => cli_bench::run_effects(args),
-        Some(Command::Bench(BenchCommand::LoadOne { file })) => cli_bench::run_load_one(file),
-        Some(Command::Info { file }) => cli_info::run_info(file),
-        Some(Command::Hits(args)) => cli_hits::run_hits(args),
-        None => run_render(&cli.render),
+        Some(Command::Render(args)) => render::run(args),
+        Some(Command::Info { file }) => info::run(file),
+        Some(Command::Hits(args)) => hits::run(args),
+        Some(Command::Bench(command)) => bench::run(command),
+        None => render::run(&cli.render),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }
-}
-
-fn run_render(args: &RenderArgs) -> Result<()> {
-    let mut times = PhaseTimes::default();
-    let t = Instant::now();
-    let mut scene = match &args.scene {
-        Some(path) => lumis::formats::load_with(
-            path,
-            &lumis::formats::LoadOptions {
-                scene: args.gltf_scene,
-                camera: args.camera,
-                up: args.up.unwrap_or_default(),
-                auto_camera: args.auto_camera,
-            },
-        )?,
-        None if args.gltf_scene.is_some()
-            || args.camera.is_some()
-            || args.up.is_some()
-            || args.auto_camera =>
-        {
-            bail!("--gltf-scene, --camera, --up and --auto-camera need a model file")
-        }
-        None => lumis::formats::default_scene().context("loading the built-in default scene")?,
-    };
-    if !args.quiet {
-        for w in scene.warnings() {
-            eprintln!("warning: {w}");
-        }
-    }
-    let st = scene.settings_mut();
-    st.width = args.width.unwrap_or(st.width);
-    st.height = args.height.unwrap_or(st.height);
-    st.spp = args.spp.unwrap_or(st.spp);
-    st.max_depth = args.max_depth.unwrap_or(st.max_depth);
-    st.display = args.display.unwrap_or(st.display);
-    args.accuracy.apply(st)?;
-    args.cutoff.apply(st)?;
-    // The same limits as every scene file's, checked before any work starts.
-    st.validate()
-        .context("the render settings after the command-line overrides")?;
-    if let Some(ev) = args.exposure
-        && !ev.is_finite()
-    {
-        bail!("--exposure {ev}: expected a finite number of stops");
-    }
-    let choice = args.accel.validated()?;
-    let outputs = output_paths(args)?;
-    times.load = t.elapsed();
-
-    let t = Instant::now();
-    let world = choice.build(scene);
-    times.build = t.elapsed();
-
-    let t = Instant::now();
-    let show_progress = !args.quiet && std::io::stderr().is_terminal();
-    let opts = RenderOptions {
-        seed: args.seed,
-        threads: args.threads,
-        progress: show_progress,
-        // Only EXR has depth, normal and id layers: a PNG-only render traces no rays for them.
-        aov_layers: outputs.iter().any(|p| has_extension(p, "exr")),
-        effects: args.effects,
-    };
-    let mut rendered = render(&world, &opts)?;
-    let scene = world.scene();
-    times.render = t.elapsed();
-
-    let exposure = match args.exposure {
-        Some(ev) => ev,
-        None if args.scene.as_deref().is_some_and(is_model_file) => {
-            let ev = lumis::output::auto_exposure(&rendered.film);
-            if !args.quiet {
-                eprintln!("auto exposure: {ev:+.2} EV");
-            }
-            ev
-        }
-        None => scene.settings().exposure,
-    };
-    rendered.film.expose(exposure);
-
-    let t = Instant::now();
-    let meta = ExrMetadata {
-        float_rgba: args.float,
-        spp: scene.settings().spp.pow(2),
-        render_seconds: times.render.as_secs_f32(),
-        exposure,
-    };
-    for path in &outputs {
-        write_by_extension(
-            path,
-            &rendered.film,
-            scene.camera(),
-            &meta,
-            // Already applied to the film, for the EXR too.
-            0.0,
-            scene.settings().display,
-        )?;
-    }
-    times.write = t.elapsed();
-
-    if let Some(path) = &args.stats_json {
-        let json = summary_json(&times, &rendered.counts, &rendered.analysis);
-        lumis::output::write_text(path, &json)?;
-    }
-    if !args.quiet {
-        for path in &outputs {
-            eprintln!("wrote {}", path.display());
-        }
-        eprint!(
-            "{}",
-            summary(&times, &rendered.counts, &rendered.analysis, args.stats)
-        );
-    }
-    Ok(())
-}
-
-/// The files to write: `-o` and `--png` when given, otherwise `out.exr` and `out.png`.
-fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
-    let mut paths: Vec<PathBuf> = args.output.iter().chain(&args.png).cloned().collect();
-    if args.output.is_none() {
-        paths.insert(0, PathBuf::from("out.exr"));
-        if args.png.is_none() {
-            paths.push(PathBuf::from("out.png"));
-        }
-    }
-    if let Some(png) = &args.png
-        && !has_extension(png, "png")
-    {
-        bail!("--png {}: the file name must end in .png", png.display());
-    }
-    // Checked before rendering so a typo does not cost a whole render.
-    if let Some(bad) = paths
-        .iter()
-        .find(|p| !has_extension(p, "exr") && !has_extension(p, "png"))
-    {
-        bail!(
-            "{}: unknown output format; expected a file name ending in .exr or .png",
-            bad.display()
-        );
-    }
-    if let Some(json) = &args.stats_json
-        && paths.contains(json)
-    {
-        bail!(
-            "--stats-json {}: that is also an image output; give the report its own file",
-            json.display()
-        );
-    }
-    Ok(paths)
-}
-
-/// glTF and OBJ: files whose lights say nothing about a sensible brightness.
-fn is_model_file(p: &Path) -> bool {
-    ["gltf", "glb", "obj"].iter().any(|e| has_extension(p, e))
-}
-
-fn has_extension(p: &Path, ext: &str) -> bool {
-    p.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
 }

@@ -5,7 +5,6 @@
 use lumis::accel::{AccelKind, BuildOptions};
 use lumis::formats::toml::load_toml_str;
 use lumis::geometry::{Offset, Precision};
-use lumis::hits::{spawn_rows, trace_rays};
 use lumis::render::{RenderOptions, render};
 use lumis::scene::{Scene, World};
 use std::path::Path;
@@ -129,7 +128,8 @@ fn cutoff_cuts_weak_branches_and_zero_changes_nothing() {
 
 #[test]
 fn precision_and_offset_reach_the_hit_queries() {
-    let mut world = sah(load(FAR_SCENE));
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("far.toml"), FAR_SCENE).unwrap();
     // Rays down onto the ground and the ball.
     let rays: Vec<[f32; 8]> = (0..64)
         .map(|i| {
@@ -137,18 +137,40 @@ fn precision_and_offset_reach_the_hit_queries() {
             [x, 5.0, 1e6 + 0.3, 0.0, -1.0, 0.01, 0.0, f32::INFINITY]
         })
         .collect();
-    let double = trace_rays(&world, &rays, false);
-    world.settings_mut().precision = Precision::Fast;
-    let fast = trace_rays(&world, &rays, false);
+    write_rays(&dir.path().join("rays.npy"), &rays);
+    // The hit records through `lumis hits` (the scene asks for double precision and a 0.001
+    // epsilon offset; the flags override them one at a time).
+    let hits = |extra: &[&str]| {
+        let base = ["hits", "far.toml", "--rays", "rays.npy", "--out", "h.npy"];
+        let out = lumis(dir.path(), &[&base[..], extra].concat());
+        assert!(
+            out.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    hits(&[]);
+    let double: Vec<[f32; 9]> = read_rows(&dir.path().join("h.npy"));
+    hits(&["--precision", "fast", "--spawn-out", "eps.npy"]);
+    let fast: Vec<[f32; 9]> = read_rows(&dir.path().join("h.npy"));
     assert_eq!(double.len(), 64);
     // Both see the same objects; the f32 quadratic loses digits of t on the far ball.
     assert!(double.iter().zip(&fast).all(|(a, b)| a[2] == b[2]));
     assert!(double.iter().zip(&fast).any(|(a, b)| a[0] != b[0]));
     // The epsilon rule puts spawn origins 0.001 off the ground; the error bound an ulp.
-    let eps = spawn_rows(&world, &rays);
-    world.settings_mut().offset = Offset::ErrorBound;
-    let bound = spawn_rows(&world, &rays);
+    let eps: Vec<[f32; 6]> = read_rows(&dir.path().join("eps.npy"));
+    hits(&[
+        "--precision",
+        "fast",
+        "--offset",
+        "error-bound",
+        "--spawn-out",
+        "bound.npy",
+    ]);
+    let bound: Vec<[f32; 6]> = read_rows(&dir.path().join("bound.npy"));
+    assert_eq!((eps.len(), bound.len()), (64, 64));
     let ground = |r: &[f32; 9]| r[2] == 1.0;
+    assert!(double.iter().any(ground), "some rays reach the ground");
     for ((row, e), b) in double.iter().zip(&eps).zip(&bound) {
         if ground(row) {
             assert!((e[1] - 0.001).abs() < 1e-6, "epsilon origin {e:?}");
@@ -156,6 +178,32 @@ fn precision_and_offset_reach_the_hit_queries() {
             assert!(e[4] < 0.0 && b[4] < 0.0, "far side below the ground");
         }
     }
+}
+
+/// Writes rays as the `(N, 8)` float32 `.npy` array `lumis hits --rays` reads.
+fn write_rays(path: &Path, rays: &[[f32; 8]]) {
+    use npyz::WriterBuilder;
+    let mut bytes = Vec::new();
+    let mut w = npyz::WriteOptions::<f32>::new()
+        .default_dtype()
+        .shape(&[rays.len() as u64, 8])
+        .writer(&mut bytes)
+        .begin_nd()
+        .unwrap();
+    w.extend(rays.iter().flatten().copied()).unwrap();
+    w.finish().unwrap();
+    std::fs::write(path, bytes).unwrap();
+}
+
+/// Reads an `(N, C)` float32 `.npy` array `lumis hits` wrote, checking its width.
+fn read_rows<const C: usize>(path: &Path) -> Vec<[f32; C]> {
+    let bytes = std::fs::read(path).unwrap();
+    let npy = npyz::NpyFile::new(&bytes[..]).unwrap();
+    assert_eq!(npy.shape()[1], C as u64, "{}", path.display());
+    let flat: Vec<f32> = npy.into_vec().unwrap();
+    flat.chunks_exact(C)
+        .map(|c| std::array::from_fn(|i| c[i]))
+        .collect()
 }
 
 fn lumis(dir: &Path, args: &[&str]) -> std::process::Output {
@@ -206,20 +254,10 @@ fn render_and_hits_take_the_flags_and_reject_bad_ones() {
         );
     }
     // hits: the same flags, and the spawn origins file.
-    let rays: Vec<f32> = [1e6f32, 5.0, 1e6 + 3.0, 0.0, -1.0, 0.0, 0.0, f32::INFINITY].to_vec();
-    let mut bytes = Vec::new();
-    {
-        use npyz::WriterBuilder;
-        let mut w = npyz::WriteOptions::<f32>::new()
-            .default_dtype()
-            .shape(&[1, 8])
-            .writer(&mut bytes)
-            .begin_nd()
-            .unwrap();
-        w.extend(rays).unwrap();
-        w.finish().unwrap();
-    }
-    std::fs::write(dir.path().join("rays.npy"), bytes).unwrap();
+    write_rays(
+        &dir.path().join("rays.npy"),
+        &[[1e6f32, 5.0, 1e6 + 3.0, 0.0, -1.0, 0.0, 0.0, f32::INFINITY]],
+    );
     let out = lumis(
         dir.path(),
         &[

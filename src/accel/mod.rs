@@ -23,7 +23,7 @@ mod wide;
 
 pub use bsp::SplitRule;
 pub use bvh::{Bvh, Node};
-pub use segments::SegmentParams;
+pub use segments::{PAPER_SEGMENT_MAX, SegmentParams};
 pub use wide::{LEAF_ALIGN, PADDING, Wide8, WideBvh, WideNode};
 
 use std::sync::Arc;
@@ -34,8 +34,7 @@ use crate::geometry::{
 use crate::math::{Aabb, Ray};
 
 /// Which acceleration structure to build.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AccelKind {
     /// Test every primitive: the reference all others are checked against.
     Brute,

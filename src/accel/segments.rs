@@ -18,6 +18,10 @@ use super::{Closest, Hit, TraversalStats};
 use crate::geometry::PrimHit;
 use crate::math::Ray;
 
+/// The paper's segment cap ("the maximum segment length is set as 40000"): the `max` of its
+/// Table I configurations and the default of `--segment-max`.
+pub const PAPER_SEGMENT_MAX: f32 = 40_000.0;
+
 /// Segment lengths of the scale-lights traversal, in world units along the ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SegmentParams {

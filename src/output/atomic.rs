@@ -14,7 +14,7 @@ use super::OutputError;
 /// file system. On any error the temporary file is deleted (dropping `NamedTempFile` removes
 /// it) and an existing file at `path` is left untouched. A symlink at `path` is replaced, not
 /// written through.
-pub(crate) fn write_atomically<F>(path: &Path, encode: F) -> Result<(), OutputError>
+pub fn write_atomically<F>(path: &Path, encode: F) -> Result<(), OutputError>
 where
     F: FnOnce(&mut BufWriter<&mut File>) -> Result<(), OutputError>,
 {

@@ -6,7 +6,7 @@ use std::str::FromStr;
 
 /// How the PNG encodes linear values after exposure (`display` in a scene's `[render]`,
 /// `--display` on the command line).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum DisplayTransform {
     /// The sRGB transfer curve (IEC 61966-2-1): the PNG shows the linear image as a monitor
     /// should. The default for every format but `.scn`.

@@ -17,7 +17,8 @@ mod atomic;
 mod display;
 mod exposure;
 
-pub(crate) use self::atomic::write_atomically;
+// Public for the binary's other result files (`lumis hits` writes .npy arrays through it).
+pub use self::atomic::write_atomically;
 mod exr;
 mod png;
 

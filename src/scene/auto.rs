@@ -12,7 +12,7 @@ const AUTO_FOV: f32 = 40.0;
 
 /// Which model axis points up (`--up`). lumis scenes are Y-up; a Z-up model (many CAD and
 /// Blender exports to OBJ) is turned so that its +Z becomes +Y.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum UpAxis {
     /// +Y is up (glTF's convention, and the default).
     #[default]

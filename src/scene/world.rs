@@ -7,6 +7,7 @@
 use super::{Interaction, Scene, Settings};
 use crate::accel::{Accel, AccelKind, BuildOptions, Hit, Traversal, TraversalStats};
 use crate::camera::Camera;
+use crate::geometry::with_prim_test;
 use crate::math::Ray;
 
 /// A scene and the accelerator over its primitives: what renders and ray queries take.
@@ -85,5 +86,24 @@ impl World {
         let precision = self.scene.settings().precision;
         self.accel
             .occluded_geometry(self.scene.geometry(), precision, ray, stats)
+    }
+
+    /// The distance to the blocker an any-hit query of `ray` stops at (some blocker within
+    /// `(t_min, t_max]`, not necessarily the nearest), or `None` when nothing blocks it. The
+    /// primitives are tested one at a time with the scene's precision (the choice made once per
+    /// ray), so cross-checks can compare the blocker itself, not only the yes or no.
+    pub fn first_blocker(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<f32> {
+        let g = self.scene.geometry();
+        let mut blocker = None;
+        with_prim_test!(g, self.scene.settings().precision, ray, |test| {
+            self.accel.occluded(ray, stats, |p, r| match test(p, r) {
+                Some(h) => {
+                    blocker = Some(h.t);
+                    true
+                }
+                None => false,
+            })
+        });
+        blocker
     }
 }

@@ -2,7 +2,6 @@
 //! bit of the image (against `--effects all`, which traces everything), and every effect a
 //! scene lacks costs zero rays.
 
-mod bench;
 #[path = "../common/mod.rs"]
 mod common;
 mod identical;

@@ -21,7 +21,7 @@ pub fn traversals() -> Vec<Traversal> {
         }),
         Traversal::Segments(SegmentParams {
             init: 2.0,
-            max: lumis::bench::PAPER_SEGMENT_MAX,
+            max: lumis::accel::PAPER_SEGMENT_MAX,
         }),
     ]
 }

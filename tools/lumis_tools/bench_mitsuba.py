@@ -81,7 +81,7 @@ process:
   and the setting of the variant, about a second of Python, are reported apart).
 - lumis: `lumis render SCENE.toml -o out.exr --float --threads T --spp N --width W --height H
   --stats-json stats.json`. render-only = `time.render_s` of the stats (the tracing, after the
-  scene is loaded and its BVH built; see src/stats.rs); end-to-end = the process's wall time
+  scene is loaded and its BVH built; see src/cli/stats.rs); end-to-end = the process's wall time
   (start-up, parsing the .m text, building, rendering, writing the EXR).
 Reported: medians over the rounds of each, the ratios lumis/scalar_rgb and lumis/llvm_ad_rgb
 (below 1: lumis is faster), and the targets of the issue (lumis render-only <= 0.5x

@@ -90,7 +90,7 @@ def run(args, what="lumis"):
 
 @dataclass
 class LumisHits:
-    """Rows of `lumis hits` (see src/hits.rs): t, prim, object, u, v, normal xyz, kind."""
+    """Rows of `lumis hits` (see src/cli/hits/records.rs): t, prim, object, u, v, normal xyz, kind."""
 
     rows: np.ndarray
     timings: dict | None = None

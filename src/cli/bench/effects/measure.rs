@@ -1,12 +1,12 @@
-//! `lumis bench effects`: what the effect decisions save, per scene: time and rays by kind of
-//! the default render against `--effects all` (everything traced), measured in the same run
-//! in interleaved rounds.
+//! One scene's measurement for `lumis bench effects`: time and rays by kind of the default
+//! render against `--effects all` (everything traced), in the same run in interleaved rounds,
+//! and the tables that report them.
 
-use crate::accel::{AccelKind, BuildOptions};
-use crate::effects::EffectMode;
-use crate::integrator::RayCounts;
-use crate::render::{RenderError, RenderOptions, Rendered, render};
-use crate::scene::{Scene, World};
+use lumis::accel::{AccelKind, BuildOptions};
+use lumis::effects::EffectMode;
+use lumis::integrator::RayCounts;
+use lumis::render::{RenderError, RenderOptions, Rendered, render};
+use lumis::scene::{Scene, World};
 use std::fmt::Write as _;
 use std::time::Instant;
 

@@ -1,7 +1,7 @@
 //! The files `lumis bench load` generates are valid: both formats load with the same triangle
 //! count and bounds, so the benchmark times real loads.
 
-use lumis::bench_load::{write_glb, write_obj};
+use super::files::{write_glb, write_obj};
 
 #[test]
 fn generated_obj_and_glb_load_with_the_same_geometry() {

@@ -1,14 +1,13 @@
 //! The sweep: which settings are measured, and the interleaved timing loop.
 
-use super::Row;
 use super::metrics::{Oracle, image_error};
+use super::report::Row;
 use super::scenes::BenchScene;
-use crate::accel::{AccelKind, BuildOptions};
-use crate::geometry::{Offset, Precision};
-use crate::render::{RenderOptions, render};
-use crate::scene::Settings;
-use crate::scene::World;
 use anyhow::{Context, Result};
+use lumis::accel::{AccelKind, BuildOptions};
+use lumis::geometry::{Offset, Precision};
+use lumis::render::{RenderOptions, render};
+use lumis::scene::{Settings, World};
 use std::collections::HashMap;
 use std::time::Instant;
 

@@ -1,25 +1,26 @@
 //! The accelerator flags shared by `render` and `hits`, validated in one place.
 
+use super::values::{AccelArg, TraversalArg};
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis::accel::{AccelKind, BuildOptions, SegmentParams, Traversal};
+use lumis::accel::{AccelKind, BuildOptions, PAPER_SEGMENT_MAX, SegmentParams, Traversal};
 use lumis::scene::{Scene, World};
 
 /// `--accel`, `--traversal`, `--segment-init`, `--segment-max`, `--leaf-size`.
 #[derive(Args, Debug)]
 pub struct AccelArgs {
     /// Acceleration structure.
-    #[arg(long, value_enum, default_value_t = AccelKind::Sah)]
-    accel: AccelKind,
+    #[arg(long, value_enum, default_value_t = AccelArg::Sah)]
+    accel: AccelArg,
     /// How the hierarchy is walked: front-to-back, the paper's scale-lights segments, or the
     /// paper's exhaustive recursion.
-    #[arg(long, value_enum, default_value_t = TraversalKind::Ordered)]
-    traversal: TraversalKind,
+    #[arg(long, value_enum, default_value_t = TraversalArg::Ordered)]
+    traversal: TraversalArg,
     /// First segment length of the segments traversal (world units).
     #[arg(long, default_value_t = 2.0)]
     segment_init: f32,
     /// Segments double up to this length, then one unbounded pass follows.
-    #[arg(long, default_value_t = lumis::bench::PAPER_SEGMENT_MAX)]
+    #[arg(long, default_value_t = PAPER_SEGMENT_MAX)]
     segment_max: f32,
     /// Largest leaf of the hierarchies (default: 4 for sah, 20 for bsp and bsmp, as in the paper).
     #[arg(long)]
@@ -36,25 +37,26 @@ pub struct AccelChoice {
 impl AccelArgs {
     /// The choice, or an error naming the bad flag (checked before any work is done).
     pub fn validated(&self) -> Result<AccelChoice> {
+        let kind = AccelKind::from(self.accel);
         let options = BuildOptions {
-            max_leaf_size: self.leaf_size.unwrap_or(self.accel.default_leaf_size()),
+            max_leaf_size: self.leaf_size.unwrap_or(kind.default_leaf_size()),
         };
         if options.max_leaf_size == 0 {
             bail!("--leaf-size must be at least 1");
         }
         let (init, max) = (self.segment_init, self.segment_max);
         let traversal = match self.traversal {
-            TraversalKind::Ordered => Traversal::Ordered,
-            TraversalKind::Exhaustive => Traversal::Exhaustive,
-            TraversalKind::Segments if init > 0.0 && init.is_finite() && max.is_finite() => {
+            TraversalArg::Ordered => Traversal::Ordered,
+            TraversalArg::Exhaustive => Traversal::Exhaustive,
+            TraversalArg::Segments if init > 0.0 && init.is_finite() && max.is_finite() => {
                 Traversal::Segments(SegmentParams { init, max })
             }
-            TraversalKind::Segments => {
+            TraversalArg::Segments => {
                 bail!("--segment-init must be positive and both segment lengths finite")
             }
         };
         Ok(AccelChoice {
-            kind: self.accel,
+            kind,
             options,
             traversal,
         })
@@ -66,13 +68,4 @@ impl AccelChoice {
     pub fn build(&self, scene: Scene) -> World {
         World::build(scene, self.kind, &self.options).with_traversal(self.traversal)
     }
-}
-
-/// The `--traversal` choice; segment lengths come from their own flags.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum TraversalKind {
-    Ordered,
-    Segments,
-    /// The paper's own walk: every crossed node, no order, no culling (for comparisons).
-    Exhaustive,
 }

@@ -1,12 +1,11 @@
 //! Error of one rendering against the converged reference, and disagreement of one precision
 //! and offset with float64 brute force on the same ray queries.
 
-use crate::accel::{AccelKind, BuildOptions, TraversalStats};
-use crate::film::Film;
-use crate::geometry::{Offset, Precision, SurfacePoint};
-use crate::math::{Ray, Vec2, Vec3};
-use crate::scene::Scene;
-use crate::scene::World;
+use lumis::accel::{AccelKind, BuildOptions, TraversalStats};
+use lumis::film::Film;
+use lumis::geometry::{Offset, Precision, SurfacePoint};
+use lumis::math::{Ray, Vec2, Vec3};
+use lumis::scene::{Scene, World};
 
 /// Relative part of the acne / lost-shadow threshold: a pixel counts when its luminance is
 /// off the reference's by more than `REL * Y_ref + ABS`.
@@ -119,7 +118,7 @@ fn facing(s: &SurfacePoint, ray: &Ray) -> Vec3 {
 fn shadow_ray(
     s: &SurfacePoint,
     ng: Vec3,
-    light: &crate::light::Light,
+    light: &lumis::light::Light,
     offset: Offset,
 ) -> Option<Ray> {
     let ls = light.sample(s.p);

@@ -1,7 +1,7 @@
 //! The accuracy plot: relative MSE (log) against time ratio (log), one series per knob through
 //! the defaults, the corners as markers, and the Pareto front over every point.
 
-use super::{Summary, pareto};
+use super::report::{Summary, pareto};
 use anyhow::{Result, anyhow, bail};
 use plotters::coord::Shift;
 use plotters::prelude::*;

@@ -1,17 +1,9 @@
-//! `lumis bench accuracy`: what each accuracy knob (samples, depth, cutoff, precision, offset)
-//! buys in error for what it costs in time, one axis at a time from the defaults.
-//!
-//! Every point is rendered in the same run as the defaults and the converged reference, so
-//! time ratios and errors are comparable within a scene whatever the machine's speed.
+//! The sweep's results: one row per point and scene, as CSV, summarised over scenes, and the
+//! summary as a Markdown table with the Pareto front marked.
 
-pub mod metrics;
-pub mod plot;
-pub mod scenes;
-pub mod sweep;
-
-use metrics::{ImageError, QueryError};
+use super::metrics::{ImageError, QueryError};
+use super::sweep::Point;
 use std::fmt::Write as _;
-use sweep::Point;
 
 /// One sweep point on one scene.
 #[derive(Clone, Debug)]

@@ -1,5 +1,5 @@
-//! `lumis bench load`: load time and peak memory for large OBJ and GLB files, generated on the
-//! spot (a displaced grid) so the benchmark needs no data from anywhere.
+//! The large OBJ and GLB files `lumis bench load` times, generated on the spot (a displaced
+//! grid) so the benchmark needs no data from anywhere, and the peak-memory reading.
 
 use std::fmt::Write as _;
 use std::io::Write as _;

@@ -1,6 +1,6 @@
 //! §4: `lumis bench effects` measures both modes on the same scene and reports what it saw.
 
-use lumis::bench_effects::{csv, markdown, measure_effects, reasons_markdown};
+use super::measure::{csv, markdown, measure_effects, reasons_markdown};
 
 #[test]
 fn bench_effects_measures_both_modes_and_reports_identical_images() {

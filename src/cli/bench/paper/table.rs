@@ -1,16 +1,12 @@
-//! `lumis bench paper`: the paper's Table I, measured. Every scene is rendered under each
-//! configuration the paper timed (plus SAH for reference); wall time is the median of K runs.
+//! The paper's Table I, measured: every scene is rendered under each configuration the paper
+//! timed (plus SAH for reference); wall time is the median of K runs.
 
-use crate::accel::{AccelKind, BuildOptions, SegmentParams, Traversal};
-use crate::render::{RenderError, RenderOptions, render};
-use crate::scene::Scene;
-use crate::scene::World;
+use lumis::accel::{AccelKind, BuildOptions, PAPER_SEGMENT_MAX, SegmentParams, Traversal};
+use lumis::render::{RenderError, RenderOptions, render};
+use lumis::scene::{Scene, World};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// The paper's segment cap: "the maximum segment length is set as 40000".
-pub const PAPER_SEGMENT_MAX: f32 = 40_000.0;
 
 /// The figures of Table I in order, by file name.
 pub const TABLE_I_SCENES: [&str; 11] = [

@@ -1,9 +1,13 @@
 //! `lumis hits SCENE --rays rays.npy --out hits.npy`: batch ray queries for cross-checks and
-//! for timing against other tracers (formats in `lumis::hits`).
+//! for timing against other tracers (formats in [`records`]).
 
+pub mod records;
+
+use super::accel::AccelArgs;
+use super::accuracy::AccuracyArgs;
 use anyhow::{Context, Result};
 use clap::Args;
-use lumis::hits::{
+use records::{
     read_rays, spawn_rows, sphere_rows, trace_rays, triangle_rows, write_rows, write_text,
 };
 use std::path::PathBuf;
@@ -26,9 +30,9 @@ pub struct HitsArgs {
     #[arg(long)]
     any_hit: bool,
     #[command(flatten)]
-    accel: crate::cli_accel::AccelArgs,
+    accel: AccelArgs,
     #[command(flatten)]
-    accuracy: crate::cli_accuracy::AccuracyArgs,
+    accuracy: AccuracyArgs,
     /// Also write, per ray, where a secondary ray leaving its hit would start under the
     /// --offset rule: float32 .npy (N, 6), the origin on the side the ray came from (xyz) and
     /// on the far side (xyz); inf for misses.
@@ -56,7 +60,7 @@ pub struct HitsArgs {
 }
 
 /// Loads the scene and rays, traces them, writes the hits (and triangles, spheres, timings).
-pub fn run_hits(args: &HitsArgs) -> Result<()> {
+pub fn run(args: &HitsArgs) -> Result<()> {
     let accel_kind = args.accel.validated()?;
     let start = Instant::now();
     let mut scene = lumis::formats::load(&args.scene)?;

@@ -25,11 +25,11 @@ use std::path::{Path, PathBuf};
 use npyz::WriterBuilder;
 use rayon::prelude::*;
 
-use crate::accel::{Accel, Hit, TraversalStats};
-use crate::geometry::{PrimHit, Primitive, with_prim_test};
-use crate::math::{Ray, Vec3};
-use crate::output::{OutputError, write_atomically};
-use crate::scene::{Scene, World};
+use lumis::accel::{Hit, TraversalStats};
+use lumis::geometry::Primitive;
+use lumis::math::{Ray, Vec3};
+use lumis::output::{OutputError, write_atomically};
+use lumis::scene::{Scene, World};
 
 /// Floats per input ray row.
 pub const RAY_COLUMNS: usize = 8;
@@ -150,9 +150,10 @@ fn check_ray(r: &[f32; RAY_COLUMNS]) -> Result<(), &'static str> {
     Ok(())
 }
 
-/// Traces every ray through `world` in parallel on the current rayon pool; row `i` of the result answers ray `i` (format in the module
-/// docs). Rays must have passed [`read_rays`]'s checks. The result does not depend on the
-/// thread count. Primitives are intersected with the scene's `precision`.
+/// Traces every ray through `world` in parallel on the current rayon pool; row `i` of the
+/// result answers ray `i` (format in the module docs). Rays must have passed [`read_rays`]'s
+/// checks. The result does not depend on the thread count. Primitives are intersected with the
+/// scene's `precision`.
 pub fn trace_rays(
     world: &World,
     rays: &[[f32; RAY_COLUMNS]],
@@ -211,19 +212,18 @@ fn to_ray(r: &[f32; RAY_COLUMNS]) -> Ray {
 const MISS: [f32; HIT_COLUMNS] = [f32::INFINITY, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0];
 
 impl Query {
-    /// The hit row: the scene's own nearest-hit query, or for `any_hit` the first blocker with
-    /// the primitive test the scene's precision selects (chosen once per ray).
+    /// The hit row: the scene's own nearest-hit query, or for `any_hit` only the distance of
+    /// the blocker the any-hit traversal stopped at.
     fn row(&self, world: &World, any_hit: bool, stats: &mut TraversalStats) -> [f32; HIT_COLUMNS] {
-        let scene = world.scene();
-        if any_hit {
-            let (g, precision) = (scene.geometry(), scene.settings().precision);
-            return with_prim_test!(g, precision, &self.ray, |test| self.blocker_row(
-                world.accel(),
-                stats,
-                test
-            ));
-        }
         let ray = &self.ray;
+        if any_hit {
+            let mut row = MISS;
+            if let Some(t) = world.first_blocker(ray, stats) {
+                row[0] = t;
+            }
+            return row;
+        }
+        let scene = world.scene();
         let g = scene.geometry();
         let Some(Hit { prim, hit }) = world.intersect_hit(ray, stats) else {
             return MISS;
@@ -244,29 +244,6 @@ impl Query {
             n.z,
             kind,
         ]
-    }
-
-    /// The any-hit row: only the distance of the blocker the traversal stopped at.
-    fn blocker_row(
-        &self,
-        accel: &Accel,
-        stats: &mut TraversalStats,
-        test: impl Fn(u32, &Ray) -> Option<PrimHit>,
-    ) -> [f32; HIT_COLUMNS] {
-        // The traversal stops at the first blocker, so the last hit recorded is that blocker.
-        let mut t_hit = f32::INFINITY;
-        let blocked = accel.occluded(&self.ray, stats, |p, r| match test(p, r) {
-            Some(h) => {
-                t_hit = h.t;
-                true
-            }
-            None => false,
-        });
-        let mut row = MISS;
-        if blocked {
-            row[0] = t_hit;
-        }
-        row
     }
 }
 

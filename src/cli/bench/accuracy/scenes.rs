@@ -1,13 +1,13 @@
 //! The scenes `lumis bench accuracy` measures: the built-in default, three paper scenes, one
 //! mesh asset and two hard cases far from the origin that are built here in code.
 
-use crate::camera::Camera;
-use crate::geometry::{Mesh, Sphere};
-use crate::light::Light;
-use crate::material::{Material, Texture};
-use crate::math::Vec3;
-use crate::scene::{Scene, SceneBuilder};
 use anyhow::{Context, Result, bail};
+use lumis::camera::Camera;
+use lumis::geometry::{Mesh, Sphere};
+use lumis::light::Light;
+use lumis::material::{Material, Texture};
+use lumis::math::Vec3;
+use lumis::scene::{Scene, SceneBuilder};
 use std::path::Path;
 
 /// A scene with the name its rows carry.
@@ -59,7 +59,7 @@ pub fn default_set(paper_dir: &Path) -> Result<Vec<BenchScene>> {
 /// A built-in name, a paper scene's file name (looked up in `paper_dir`), or a scene path.
 pub fn resolve(arg: &str, paper_dir: &Path) -> Result<BenchScene> {
     let scene = match arg {
-        "default" => crate::formats::default_scene().context("loading the default scene")?,
+        "default" => lumis::formats::default_scene().context("loading the default scene")?,
         "far-occluder" => far_occluder(),
         "far-spheres" => far_spheres(),
         _ => {
@@ -71,7 +71,7 @@ pub fn resolve(arg: &str, paper_dir: &Path) -> Result<BenchScene> {
             } else {
                 bail!("{arg}: no such file, and not one of {}", BUILTIN.join(", "));
             };
-            crate::formats::load(&path).with_context(|| format!("loading {}", path.display()))?
+            lumis::formats::load(&path).with_context(|| format!("loading {}", path.display()))?
         }
     };
     let name = Path::new(arg)

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Loads `path` and prints its contents.
-pub fn run_info(path: &Path) -> Result<()> {
+pub fn run(path: &Path) -> Result<()> {
     let scene = lumis::formats::load(path)?;
     print!("{}", describe(path, &scene));
     Ok(())

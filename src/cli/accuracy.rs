@@ -1,9 +1,10 @@
 //! The accuracy flags shared by `render` and `hits` (`--precision`, `--offset`, `--epsilon`),
 //! plus `render`'s `--cutoff`; each overrides the scene file's `[render]` key of the same name.
 
+use super::values::{OffsetArg, PrecisionArg};
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis::geometry::{Offset, Precision, check_cutoff, check_epsilon};
+use lumis::geometry::{Offset, check_cutoff, check_epsilon};
 use lumis::scene::Settings;
 
 /// `--precision`, `--offset`, `--epsilon`.
@@ -32,29 +33,11 @@ pub struct CutoffArgs {
     cutoff: Option<f32>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum PrecisionArg {
-    Fast,
-    Watertight,
-    Double,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum OffsetArg {
-    ErrorBound,
-    Ulp,
-    Epsilon,
-}
-
 impl AccuracyArgs {
     /// Applies the flags over the scene's settings, or names the bad flag.
     pub fn apply(&self, st: &mut Settings) -> Result<()> {
         if let Some(p) = self.precision {
-            st.precision = match p {
-                PrecisionArg::Fast => Precision::Fast,
-                PrecisionArg::Watertight => Precision::Watertight,
-                PrecisionArg::Double => Precision::Double,
-            };
+            st.precision = p.into();
         }
         let epsilon = match self.epsilon {
             Some(e) => Some(check_epsilon(e).map_err(|m| anyhow::anyhow!("--epsilon: {m}"))?),

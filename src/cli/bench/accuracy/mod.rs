@@ -1,0 +1,106 @@
+//! `lumis bench accuracy`: what each accuracy knob (samples, depth, cutoff, precision, offset)
+//! buys in error for what it costs in time, one axis at a time from the defaults.
+//!
+//! Every point is rendered in the same run as the defaults and the converged reference, so
+//! time ratios and errors are comparable within a scene whatever the machine's speed.
+
+pub mod metrics;
+pub mod plot;
+pub mod report;
+pub mod scenes;
+pub mod sweep;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use report::{csv, markdown, summarise};
+use std::path::PathBuf;
+
+/// Options of `lumis bench accuracy`.
+#[derive(Args, Debug)]
+pub struct AccuracyArgs {
+    /// Scenes: files, paper scene names (looked up in --paper-scenes), or the built-ins
+    /// `default`, `far-occluder`, `far-spheres`. Default: the default scene, allMaterials,
+    /// texturesInYoFace, tumbledStones, assets/knot.obj, far-occluder and far-spheres.
+    scenes: Vec<String>,
+    /// Folder holding the paper's .scn files.
+    #[arg(long, default_value = "../shared/paper-scenes/scenes")]
+    paper_scenes: PathBuf,
+    /// Image width of every render.
+    #[arg(long, default_value_t = 160)]
+    width: u32,
+    /// Image height of every render.
+    #[arg(long, default_value_t = 90)]
+    height: u32,
+    /// Timed rounds (the outer loop; each renders every point once); the median is kept.
+    #[arg(long, default_value_t = 3)]
+    rounds: usize,
+    /// Render threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Write every scene's rows here as CSV.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Write the error-vs-time plot here (.png or .svg).
+    #[arg(long)]
+    plot: Option<PathBuf>,
+}
+
+/// Sweeps every accuracy knob on every scene, prints the summary table and writes CSV/plot.
+pub fn run(args: &AccuracyArgs) -> Result<()> {
+    if args.width == 0 || args.height == 0 || args.rounds == 0 {
+        bail!("--width, --height and --rounds must be at least 1");
+    }
+    let list = if args.scenes.is_empty() {
+        scenes::default_set(&args.paper_scenes)?
+    } else {
+        args.scenes
+            .iter()
+            .map(|s| scenes::resolve(s, &args.paper_scenes))
+            .collect::<Result<Vec<_>>>()?
+    };
+    let opts = sweep::SweepOptions {
+        width: args.width,
+        height: args.height,
+        rounds: args.rounds,
+        threads: args.threads,
+    };
+    let start = std::time::Instant::now();
+    let mut rows = Vec::new();
+    for s in &list {
+        let t = std::time::Instant::now();
+        let r = sweep::sweep_scene(s, &opts)?;
+        eprintln!(
+            "{:<22} {} points in {:.1} s",
+            s.name,
+            r.len(),
+            t.elapsed().as_secs_f64()
+        );
+        rows.extend(r);
+    }
+    let summary = summarise(&rows);
+    println!(
+        "Accuracy sweep at {}x{}, {} rounds, {} scenes ({:.1} s); geometric means over scenes:\n",
+        args.width,
+        args.height,
+        args.rounds,
+        list.len(),
+        start.elapsed().as_secs_f64()
+    );
+    println!("{}", markdown(&summary));
+    let text = csv(&rows);
+    if let Some(path) = &args.csv {
+        std::fs::write(path, &text).with_context(|| format!("writing {}", path.display()))?;
+    } else {
+        println!("CSV:\n\n{text}");
+    }
+    if let Some(path) = &args.plot {
+        let title = format!(
+            "lumis accuracy knobs: {} scenes at {}x{}",
+            list.len(),
+            args.width,
+            args.height
+        );
+        plot::write_plot(&summary, &title, path)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,13 @@
+//! The `lumis` command line, one module per subcommand; `main.rs` only parses and dispatches.
+//!
+//! Everything here is binary-only: the library (`lumis::*`) knows nothing of clap, and the
+//! flags' value sets are mirrored onto library enums in [`values`].
+
+pub mod accel;
+pub mod accuracy;
+pub mod bench;
+pub mod hits;
+pub mod info;
+pub mod render;
+pub mod stats;
+pub mod values;
