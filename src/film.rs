@@ -25,26 +25,115 @@ impl PixelAov {
     };
 }
 
-/// A `width x height` image, rows top to bottom. Fields are private so the layers always
-/// have one entry per pixel.
+/// A rectangle of pixels `[x0, x1) x [y0, y1)` of the full image (pbrt's pixel bounds): the
+/// part of the image a render computes and an EXR stores as its data window.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PixelWindow {
+    /// First column.
+    pub x0: u32,
+    /// One past the last column.
+    pub x1: u32,
+    /// First row.
+    pub y0: u32,
+    /// One past the last row.
+    pub y1: u32,
+}
+
+impl PixelWindow {
+    /// The whole `width x height` image.
+    pub fn full(width: u32, height: u32) -> Self {
+        Self {
+            x0: 0,
+            x1: width,
+            y0: 0,
+            y1: height,
+        }
+    }
+
+    /// The pixels a crop window in normalized device coordinates (`[0,1]`, y down) covers, by
+    /// pbrt's rule: each bound is `ceil(resolution * crop)`, so adjacent crops share no pixel
+    /// and together cover the image.
+    pub fn from_crop(crop: [f32; 4], width: u32, height: u32) -> Self {
+        // In f32, as pbrt computes it, so that e.g. 40 x 0.3 is 12, not 12.0000005 -> 13.
+        let at = |f: f32, n: u32| ((n as f32 * f).ceil() as u32).min(n);
+        Self {
+            x0: at(crop[0], width),
+            x1: at(crop[1], width),
+            y0: at(crop[2], height),
+            y1: at(crop[3], height),
+        }
+    }
+
+    /// Width in pixels (of the window).
+    pub fn width(&self) -> u32 {
+        self.x1.saturating_sub(self.x0)
+    }
+
+    /// Height in pixels (of the window).
+    pub fn height(&self) -> u32 {
+        self.y1.saturating_sub(self.y0)
+    }
+
+    /// Why this is no window of a `width x height` image: empty or reaching outside it.
+    pub fn check(&self, width: u32, height: u32) -> Result<(), String> {
+        if self.x0 >= self.x1 || self.y0 >= self.y1 {
+            return Err(format!(
+                "pixel bounds x {}..{}, y {}..{} hold no pixel",
+                self.x0, self.x1, self.y0, self.y1
+            ));
+        }
+        if self.x1 > width || self.y1 > height {
+            return Err(format!(
+                "pixel bounds x {}..{}, y {}..{} reach outside the {width}x{height} image",
+                self.x0, self.x1, self.y0, self.y1
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The pixels of one window of a `full_width x full_height` image, rows top to bottom
+/// (usually the whole image). Fields are private so the layers always have one entry per pixel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     width: u32,
     height: u32,
+    /// Where this film's `(0, 0)` lies in the full image.
+    origin: (u32, u32),
+    /// The full image the window belongs to (the EXR display window, the camera's frame).
+    full: (u32, u32),
     rgba: Vec<Vec4>,
     aov: Vec<PixelAov>,
 }
 
 impl Film {
-    /// A black, transparent film with every AOV at its miss value.
+    /// A black, transparent film of the whole image with every AOV at its miss value.
     pub fn new(width: u32, height: u32) -> Self {
+        Self::window(width, height, PixelWindow::full(width, height))
+    }
+
+    /// A black, transparent film of `window` of a `full_width x full_height` image.
+    pub fn window(full_width: u32, full_height: u32, window: PixelWindow) -> Self {
+        let (width, height) = (window.width(), window.height());
         let n = width as usize * height as usize;
         Self {
             width,
             height,
+            origin: (window.x0, window.y0),
+            full: (full_width, full_height),
             rgba: vec![Vec4::ZERO; n],
             aov: vec![PixelAov::MISS; n],
         }
+    }
+
+    /// Where this film's pixel `(0, 0)` lies in the full image.
+    pub fn origin(&self) -> (u32, u32) {
+        self.origin
+    }
+
+    /// Size of the full image this film is a window of.
+    pub fn full_size(&self) -> (u32, u32) {
+        self.full
     }
 
     /// Scales the colour (not alpha, not the AOV layers) by `2^stops`: the exposure, applied

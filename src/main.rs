@@ -47,6 +47,10 @@ fn main() {
         None => render::run(&cli.render),
     };
     if let Err(e) = result {
+        if let Some(stop) = e.downcast_ref::<cli::interrupt::Interrupted>() {
+            eprintln!("{stop}");
+            std::process::exit(cli::interrupt::EXIT_INTERRUPTED);
+        }
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }

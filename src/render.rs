@@ -2,13 +2,15 @@
 //! a progress bar, and the only place the film is written.
 
 use crate::effects::{Analysis, EffectMode};
-use crate::film::{Film, PixelAov};
+use crate::film::{Film, PixelAov, PixelWindow};
 use crate::integrator::{RayCounts, Whitted};
 use crate::math::{Vec2, Vec4};
 use crate::rng::SampleRng;
 use crate::scene::{Scene, SettingsError, World};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 const TILE: u32 = 16;
 
@@ -26,7 +28,38 @@ pub struct RenderOptions {
     pub aov_layers: bool,
     /// Only what changes the image, or everything (the reference).
     pub effects: EffectMode,
+    /// The pixels to render (`--crop`, `--pixel-bounds`); `None`: the whole image. The film
+    /// holds just these, each exactly as in a render of the whole image.
+    pub window: Option<PixelWindow>,
+    /// Raised to stop early (Ctrl-C): tiles not yet started are skipped, the film keeps the
+    /// finished ones and [`Rendered::unfinished_tiles`] counts the rest.
+    pub cancel: CancelFlag,
 }
+
+/// A flag another thread raises to stop a render between tiles.
+#[derive(Clone, Debug, Default)]
+pub struct CancelFlag(Arc<AtomicBool>);
+
+impl CancelFlag {
+    /// Asks the render to stop (safe from a signal handler's thread).
+    pub fn raise(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// True once [`Self::raise`] was called.
+    pub fn is_raised(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// Two flags are equal when they are the same flag.
+impl PartialEq for CancelFlag {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+impl Eq for CancelFlag {}
 
 impl Default for RenderOptions {
     fn default() -> Self {
@@ -36,6 +69,8 @@ impl Default for RenderOptions {
             progress: false,
             aov_layers: true,
             effects: EffectMode::Auto,
+            window: None,
+            cancel: CancelFlag::default(),
         }
     }
 }
@@ -49,6 +84,18 @@ pub struct Rendered {
     pub counts: RayCounts,
     /// What the render decided to simulate, and why.
     pub analysis: Analysis,
+    /// Tiles skipped because the render was cancelled; their pixels keep the film's initial
+    /// value (RGBA 0, so alpha 0, and the AOV miss values). 0 for a complete render.
+    pub unfinished_tiles: usize,
+    /// Tiles in the render (finished or not).
+    pub tiles: usize,
+}
+
+impl Rendered {
+    /// True when the render was cancelled before every tile was done.
+    pub fn is_partial(&self) -> bool {
+        self.unfinished_tiles > 0
+    }
 }
 
 /// Why a render could not run.
@@ -57,6 +104,9 @@ pub enum RenderError {
     /// A setting is outside what the renderer accepts ([`crate::scene::Settings::validate`]).
     #[error(transparent)]
     Settings(#[from] SettingsError),
+    /// The pixel bounds are empty or reach outside the image.
+    #[error("{0}")]
+    Window(String),
     /// The thread pool could not start.
     #[error("could not start {0} worker threads: {1}")]
     Threads(usize, String),
@@ -79,8 +129,13 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
     // Whatever set them (a scene file, a flag, library code), these bound the work per pixel
     // and the recursion depth of the integrator (each bounce is a stack frame).
     st.validate()?;
-    let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
-        .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
+    let window = opts.window.unwrap_or(PixelWindow::full(width, height));
+    window.check(width, height).map_err(RenderError::Window)?;
+    // Tiles on the full image's 16-pixel grid, clipped to the window.
+    let (tx0, ty0) = (window.x0 / TILE, window.y0 / TILE);
+    let (tx1, ty1) = (window.x1.div_ceil(TILE), window.y1.div_ceil(TILE));
+    let tiles: Vec<(u32, u32)> = (ty0..ty1)
+        .flat_map(|ty| (tx0..tx1).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
     let bar = progress_bar(tiles.len() as u64, opts.progress);
     let analysis = Analysis::new(scene, opts.effects, opts.aov_layers);
@@ -91,14 +146,18 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
         seed: opts.seed,
         lens_rays: analysis.lens_rays,
         aov: analysis.aov.on,
+        window,
     };
     let run = || -> Vec<TileResult> {
         tiles
             .par_iter()
-            .map(|&(x0, y0)| {
+            .filter_map(|&(x0, y0)| {
+                if opts.cancel.is_raised() {
+                    return None;
+                }
                 let tile = pass.tile(x0, y0);
                 bar.inc(1);
-                tile
+                Some(tile)
             })
             .collect()
     };
@@ -111,18 +170,27 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
         None => run(),
     };
     bar.finish_and_clear();
-    let mut film = Film::new(width, height);
+    let mut film = Film::window(width, height, window);
     let mut counts = RayCounts::default();
+    let unfinished_tiles = tiles.len() - results.len();
+    let (ox, oy) = film.origin();
     for t in results {
         counts += t.counts;
         for (i, (rgba, aov)) in t.pixels.into_iter().enumerate() {
-            film.set(t.x0 + i as u32 % t.w, t.y0 + i as u32 / t.w, rgba, aov);
+            film.set(
+                t.x0 + i as u32 % t.w - ox,
+                t.y0 + i as u32 / t.w - oy,
+                rgba,
+                aov,
+            );
         }
     }
     Ok(Rendered {
         film,
         counts,
         analysis,
+        unfinished_tiles,
+        tiles: tiles.len(),
     })
 }
 
@@ -149,12 +217,19 @@ struct Pass<'a> {
     lens_rays: u32,
     /// Whether centre rays for the AOV layers are traced.
     aov: bool,
+    /// The pixels rendered.
+    window: PixelWindow,
 }
 
 impl Pass<'_> {
+    /// The pixels of the tile at `(x0, y0)` inside the window.
     fn tile(&self, x0: u32, y0: u32) -> TileResult {
-        let st = self.scene.settings();
-        let (x1, y1) = ((x0 + TILE).min(st.width), (y0 + TILE).min(st.height));
+        let w = self.window;
+        let (x0, y0) = (x0.max(w.x0), y0.max(w.y0));
+        let (x1, y1) = (
+            (x0 / TILE * TILE + TILE).min(w.x1),
+            (y0 / TILE * TILE + TILE).min(w.y1),
+        );
         let mut counts = RayCounts::default();
         let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
         for y in y0..y1 {

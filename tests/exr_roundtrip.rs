@@ -11,8 +11,8 @@ use lumis::camera::Camera;
 use lumis::film::{Film, PixelAov};
 use lumis::math::{Vec2, Vec3, Vec4};
 use lumis::output::{
-    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, DisplayTransform, ExrMetadata, OutputError,
-    write_by_extension, write_exr, write_png,
+    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, DisplayTransform, ExrMetadata,
+    OutputError, write_by_extension, write_exr, write_png,
 };
 
 const W: u32 = 7;
@@ -61,9 +61,9 @@ fn film() -> Film {
 fn meta(float_rgba: bool) -> ExrMetadata {
     ExrMetadata {
         float_rgba,
-        spp: 16,
+        spp_per_axis: 4,
         render_seconds: 2.75,
-        exposure: 0.0,
+        ..ExrMetadata::default()
     }
 }
 
@@ -269,6 +269,7 @@ fn exr_attributes() {
         Some(AttributeValue::Text(Text::from("lumis 0.1.0")))
     );
     assert_eq!(other(ATTR_SPP), Some(AttributeValue::I32(16)));
+    assert_eq!(other(ATTR_SPP_PER_AXIS), Some(AttributeValue::I32(4)));
     assert_eq!(other(ATTR_RENDER_SECONDS), Some(AttributeValue::F32(2.75)));
 }
 

@@ -205,6 +205,11 @@ impl Camera {
         self.lens
     }
 
+    /// Distance from the lens to the plane in focus (world units).
+    pub fn focus_distance(&self) -> f32 {
+        self.focus_distance as f32
+    }
+
     /// Camera position.
     pub fn position(&self) -> Vec3 {
         self.position

@@ -3,12 +3,14 @@
 
 use super::accel::AccelArgs;
 use super::accuracy::{AccuracyArgs, CutoffArgs};
+use super::interrupt::{Interrupted, on_ctrl_c};
 use super::stats::{PhaseTimes, summary, summary_json};
 use super::values::{DisplayArg, UpArg};
+use super::window::WindowArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use lumis::output::{DisplayTransform, ExrMetadata, write_by_extension};
-use lumis::render::{RenderOptions, render};
+use lumis::render::{CancelFlag, RenderOptions, render};
 use lumis::scene::UpAxis;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -69,6 +71,8 @@ pub struct RenderArgs {
     /// glTF and OBJ files automatic (a high percentile of the model's luminance to 0.8).
     #[arg(long, value_name = "EV", allow_negative_numbers = true)]
     exposure: Option<f32>,
+    #[command(flatten)]
+    window: WindowArgs,
     /// Write 32-bit float RGBA to EXR instead of half.
     #[arg(long)]
     float: bool,
@@ -138,6 +142,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bail!("--exposure {ev}: expected a finite number of stops");
     }
     let choice = args.accel.validated()?;
+    let window = args.window.window(st.width, st.height)?;
     let outputs = output_paths(args)?;
     times.load = t.elapsed();
 
@@ -147,6 +152,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let t = Instant::now();
     let show_progress = !args.quiet && std::io::stderr().is_terminal();
+    let cancel = CancelFlag::default();
+    // Without the handler Ctrl-C keeps its default (quit at once), which is still correct.
+    let _ = on_ctrl_c(cancel.clone());
     let opts = RenderOptions {
         seed: args.seed,
         threads: args.threads,
@@ -154,6 +162,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // Only EXR has depth, normal and id layers: a PNG-only render traces no rays for them.
         aov_layers: outputs.iter().any(|p| has_extension(p, "exr")),
         effects: args.effects,
+        window,
+        cancel,
     };
     let mut rendered = render(&world, &opts)?;
     let scene = world.scene();
@@ -175,9 +185,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let t = Instant::now();
     let meta = ExrMetadata {
         float_rgba: args.float,
-        spp: scene.settings().spp.pow(2),
+        spp_per_axis: scene.settings().spp,
+        lens_samples: rendered.analysis.lens_rays,
         render_seconds: times.render.as_secs_f32(),
         exposure,
+        z_miss: args.window.z_miss,
+        partial: rendered.is_partial(),
     };
     for path in &outputs {
         write_by_extension(
@@ -204,6 +217,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             "{}",
             summary(&times, &rendered.counts, &rendered.analysis, args.stats)
         );
+    }
+    if rendered.is_partial() {
+        return Err(Interrupted {
+            done: rendered.tiles - rendered.unfinished_tiles,
+            total: rendered.tiles,
+        }
+        .into());
     }
     Ok(())
 }

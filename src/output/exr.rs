@@ -9,18 +9,29 @@
 //! | `id.prim`, `id.object`  | FLOAT         | primitive / object index as a float; -1 where missed |
 //!
 //! The header carries the camera as the standard `worldToCamera` and `worldToNDC` M44f
-//! attributes, so a compositor can project world positions into the image.
+//! attributes, so a compositor can project world positions into the image; `chromaticities`
+//! (Rec.709/sRGB primaries, D65 white: the colours are linear sRGB); with depth of field the
+//! standard `focus` (distance to the plane in focus, scene units) and `lumis/lensRadius` (or
+//! `lumis/lensSquareSize`) and `lumis/lensSamples`; and
+//! the sample counts (`lumis/spp` pixel samples in total, `lumis/sppPerAxis`).
+//!
+//! A render of part of the image (`--crop`, `--pixel-bounds`) is stored as that data window
+//! inside the full display window, as OpenEXR intends; the camera matrices are the full
+//! image's. A render stopped early (Ctrl-C) says so in `lumis/partial` = 1; its unfinished
+//! pixels are 0 with alpha 0.
 
 use std::path::Path;
 
+use ::exr::meta::attribute::Chromaticities;
 use ::exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Blocks, Compression, Encoding, FlatSamples, Image,
-    Layer, LayerAttributes, LineOrder, SmallVec, Text, Vec2, WritableImage, f16,
+    ImageAttributes, IntegerBounds, Layer, LayerAttributes, LineOrder, SmallVec, Text, Vec2,
+    WritableImage, f16,
 };
 
 use super::atomic::write_atomically;
 use super::{OutputError, check_not_empty};
-use crate::camera::Camera;
+use crate::camera::{Camera, Lens};
 use crate::film::Film;
 use crate::math::{Mat4, Vec4};
 
@@ -28,26 +39,58 @@ use crate::math::{Mat4, Vec4};
 pub const SOFTWARE: &str = concat!("lumis ", env!("CARGO_PKG_VERSION"));
 /// Custom string attribute naming the renderer and its version ([`SOFTWARE`]).
 pub const ATTR_RENDERER: &str = "lumis/renderer";
-/// Custom int attribute: samples per pixel.
+/// Custom int attribute: pixel samples per pixel in total (`sppPerAxis^2`).
 pub const ATTR_SPP: &str = "lumis/spp";
+/// Custom int attribute: the stratified pixel samples per axis (`--spp`).
+pub const ATTR_SPP_PER_AXIS: &str = "lumis/sppPerAxis";
+/// Custom int attribute: lens rays per pixel sample (only with depth of field).
+pub const ATTR_LENS_SAMPLES: &str = "lumis/lensSamples";
+/// Custom float attribute: the thin lens radius in scene units (only with depth of field).
+pub const ATTR_LENS_RADIUS: &str = "lumis/lensRadius";
+/// Custom float attribute: the side of the `.scn` square lens ("dispersion"), scene units.
+pub const ATTR_LENS_SQUARE: &str = "lumis/lensSquareSize";
+/// Custom int attribute, present (= 1) only when the render was stopped before every tile.
+pub const ATTR_PARTIAL: &str = "lumis/partial";
 /// Custom float attribute: wall-clock render time in seconds.
 pub const ATTR_RENDER_SECONDS: &str = "lumis/renderSeconds";
 /// Custom float attribute: the exposure in stops (EV) the colour was scaled by, `2^EV`.
 pub const ATTR_EXPOSURE: &str = "lumis/exposure";
 
 /// Render facts written into the EXR header alongside the pixels.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ExrMetadata {
     /// Store `R,G,B,A` as 32-bit float instead of half. Half covers up to 65504 with ~3
     /// significant digits, enough for display; float keeps the film's values bit-exact.
     pub float_rgba: bool,
-    /// Samples per pixel; saturates at `i32::MAX` because EXR has no unsigned int attribute.
-    pub spp: u32,
+    /// Stratified pixel samples per axis (the pixel gets its square); the attributes saturate
+    /// at `i32::MAX` because EXR has no unsigned int attribute.
+    pub spp_per_axis: u32,
+    /// Lens rays per pixel sample (written only when the camera has depth of field).
+    pub lens_samples: u32,
+    /// The `Z` value of pixels whose centre ray escaped: `+inf` by default, or a large
+    /// finite value for compositors whose depth merges break on infinities (`--z-miss`).
+    pub z_miss: f32,
+    /// The render was stopped early; recorded as `lumis/partial`.
+    pub partial: bool,
     /// Wall-clock render time in seconds.
     pub render_seconds: f32,
     /// The exposure in stops already applied to the film's colour ([`crate::film::Film::expose`]);
     /// recorded, not applied, here.
     pub exposure: f32,
+}
+
+impl Default for ExrMetadata {
+    fn default() -> Self {
+        Self {
+            float_rgba: false,
+            spp_per_axis: 1,
+            lens_samples: 1,
+            render_seconds: 0.0,
+            exposure: 0.0,
+            z_miss: f32::INFINITY,
+            partial: false,
+        }
+    }
 }
 
 /// Writes `film` to `path` as OpenEXR (channels and attributes in the module docs), atomically:
@@ -60,7 +103,13 @@ pub fn write_exr(
     meta: &ExrMetadata,
 ) -> Result<(), OutputError> {
     check_not_empty(path, film)?;
-    let image = Image::from_layer(build_layer(film, camera, meta));
+    let (full_width, full_height) = film.full_size();
+    let mut attributes = ImageAttributes::new(IntegerBounds::from_dimensions(Vec2(
+        full_width as usize,
+        full_height as usize,
+    )));
+    attributes.chromaticities = Some(REC709_D65);
+    let image = Image::new(attributes, build_layer(film, camera, meta));
     write_atomically(path, |w| {
         image
             .write()
@@ -80,6 +129,15 @@ pub fn write_exr(
 pub fn imath_m44f(m: Mat4) -> [f32; 16] {
     m.to_cols_array()
 }
+
+/// The Rec.709 / sRGB primaries and the D65 white point (CIE 1931 xy), as ITU-R BT.709 gives
+/// them: the colour space of lumis's linear RGB.
+const REC709_D65: Chromaticities = Chromaticities {
+    red: Vec2(0.64, 0.33),
+    green: Vec2(0.30, 0.60),
+    blue: Vec2(0.15, 0.06),
+    white: Vec2(0.3127, 0.3290),
+};
 
 /// Builds the single layer: channels from the film, attributes from the camera and `meta`.
 fn build_layer(
@@ -107,7 +165,20 @@ fn build_layer(
         channel("G", beauty(|p| p.y)),
         channel("B", beauty(|p| p.z)),
         channel("A", beauty(|p| p.w)),
-        channel("Z", float(aov.iter().map(|a| a.depth).collect())),
+        channel(
+            "Z",
+            float(
+                aov.iter()
+                    .map(|a| {
+                        if a.depth.is_finite() {
+                            a.depth
+                        } else {
+                            meta.z_miss
+                        }
+                    })
+                    .collect(),
+            ),
+        ),
         channel("N.X", float(aov.iter().map(|a| a.normal.x).collect())),
         channel("N.Y", float(aov.iter().map(|a| a.normal.y).collect())),
         channel("N.Z", float(aov.iter().map(|a| a.normal.z).collect())),
@@ -121,22 +192,44 @@ fn build_layer(
         ),
     ];
 
+    let (full_width, full_height) = film.full_size();
+    let (ox, oy) = film.origin();
+    let dof = camera.has_depth_of_field();
     let mut attributes = LayerAttributes {
+        layer_position: Vec2(ox as i32, oy as i32),
         world_to_camera: Some(imath_m44f(camera.world_to_camera())),
-        world_to_normalized_device: Some(imath_m44f(camera.world_to_ndc(width, height))),
+        world_to_normalized_device: Some(imath_m44f(camera.world_to_ndc(full_width, full_height))),
         software_name: Some(Text::from(SOFTWARE)),
+        focus: dof.then(|| camera.focus_distance()),
         ..LayerAttributes::default()
     };
-    let spp = i32::try_from(meta.spp).unwrap_or(i32::MAX);
+    let int = |n: u64| AttributeValue::I32(i32::try_from(n).unwrap_or(i32::MAX));
+    let per_axis = u64::from(meta.spp_per_axis);
+    let mut extra = Vec::new();
+    if dof {
+        extra.push((ATTR_LENS_SAMPLES, int(u64::from(meta.lens_samples))));
+        match camera.lens() {
+            Lens::Disk(r) => extra.push((ATTR_LENS_RADIUS, AttributeValue::F32(r))),
+            Lens::Square(s) => extra.push((ATTR_LENS_SQUARE, AttributeValue::F32(s))),
+            Lens::Pinhole => {}
+        }
+    }
+    if meta.partial {
+        extra.push((ATTR_PARTIAL, AttributeValue::I32(1)));
+    }
     for (name, value) in [
         (ATTR_RENDERER, AttributeValue::Text(Text::from(SOFTWARE))),
-        (ATTR_SPP, AttributeValue::I32(spp)),
+        (ATTR_SPP, int(per_axis * per_axis)),
+        (ATTR_SPP_PER_AXIS, int(per_axis)),
         (
             ATTR_RENDER_SECONDS,
             AttributeValue::F32(meta.render_seconds),
         ),
         (ATTR_EXPOSURE, AttributeValue::F32(meta.exposure)),
-    ] {
+    ]
+    .into_iter()
+    .chain(extra)
+    {
         attributes.other.insert(Text::from(name), value);
     }
 

@@ -30,8 +30,9 @@ use crate::film::Film;
 pub use self::display::{DisplayTransform, linear_to_srgb8};
 pub use self::exposure::{AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET, auto_exposure};
 pub use self::exr::{
-    ATTR_EXPOSURE, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ExrMetadata, SOFTWARE, imath_m44f,
-    write_exr,
+    ATTR_EXPOSURE, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
+    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
+    imath_m44f, write_exr,
 };
 pub use self::png::write_png;
 
