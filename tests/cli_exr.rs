@@ -1,6 +1,7 @@
 //! The compositing flags end to end through the binary: `--crop` / `--pixel-bounds` write a
 //! data window whose pixels are the full render's, `--z-miss` sets the depth of misses, and
-//! Ctrl-C during a render writes the finished tiles as a valid partial EXR and exits 130.
+//! Ctrl-C during a render writes the finished tiles as a valid partial EXR and exits 130; the
+//! same input gives the same bytes for any thread count.
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -182,4 +183,38 @@ fn ctrl_c_writes_the_finished_tiles_as_a_partial_exr_and_exits_130() {
     let done = a.iter().filter(|&&v| v > 0.0).count();
     assert!(done > 0, "some tiles were finished");
     assert!(done < a.len(), "some tiles were not: their alpha is 0");
+}
+
+#[test]
+fn same_input_same_bytes_for_any_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    for (threads, name) in [("1", "a.exr"), ("2", "b.exr"), ("3", "c.exr")] {
+        ok(lumis(dir.path())
+            .args(SIZE)
+            .args(["--threads", threads, "-o", name])
+            .output()
+            .unwrap());
+    }
+    let a = std::fs::read(dir.path().join("a.exr")).unwrap();
+    for name in ["b.exr", "c.exr"] {
+        assert!(
+            a == std::fs::read(dir.path().join(name)).unwrap(),
+            "{name} differs"
+        );
+    }
+    // The render time only on request: then it is there.
+    ok(lumis(dir.path())
+        .args(SIZE)
+        .args(["--timing-metadata", "-o", "t.exr"])
+        .output()
+        .unwrap());
+    let t = read_exr(&dir.path().join("t.exr"));
+    let other = &t.layer_data[0].attributes.other;
+    assert!(other.contains_key(&Text::from("lumis/renderSeconds")));
+    assert!(
+        !read_exr(&dir.path().join("a.exr")).layer_data[0]
+            .attributes
+            .other
+            .contains_key(&Text::from("lumis/renderSeconds"))
+    );
 }

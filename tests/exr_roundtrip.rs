@@ -62,7 +62,7 @@ fn meta(float_rgba: bool) -> ExrMetadata {
     ExrMetadata {
         float_rgba,
         spp_per_axis: 4,
-        render_seconds: 2.75,
+        render_seconds: Some(2.75),
         ..ExrMetadata::default()
     }
 }

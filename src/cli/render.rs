@@ -73,6 +73,10 @@ pub struct RenderArgs {
     exposure: Option<f32>,
     #[command(flatten)]
     window: WindowArgs,
+    /// Record the render time in the EXR header (lumis/renderSeconds). Off by default, so the
+    /// same input gives the same bytes; the summary prints the time anyway.
+    #[arg(long)]
+    timing_metadata: bool,
     /// Write 32-bit float RGBA to EXR instead of half.
     #[arg(long)]
     float: bool,
@@ -187,7 +191,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         float_rgba: args.float,
         spp_per_axis: scene.settings().spp,
         lens_samples: rendered.analysis.lens_rays,
-        render_seconds: times.render.as_secs_f32(),
+        render_seconds: args.timing_metadata.then(|| times.render.as_secs_f32()),
         exposure,
         z_miss: args.window.z_miss,
         partial: rendered.is_partial(),

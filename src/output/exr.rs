@@ -20,6 +20,7 @@
 //! image's. A render stopped early (Ctrl-C) says so in `lumis/partial` = 1; its unfinished
 //! pixels are 0 with alpha 0.
 
+use std::io::Write;
 use std::path::Path;
 
 use ::exr::meta::attribute::Chromaticities;
@@ -30,6 +31,7 @@ use ::exr::prelude::{
 };
 
 use super::atomic::write_atomically;
+use super::header_order::sorted_header;
 use super::{OutputError, check_not_empty};
 use crate::camera::{Camera, Lens};
 use crate::film::Film;
@@ -72,8 +74,9 @@ pub struct ExrMetadata {
     pub z_miss: f32,
     /// The render was stopped early; recorded as `lumis/partial`.
     pub partial: bool,
-    /// Wall-clock render time in seconds.
-    pub render_seconds: f32,
+    /// Wall-clock render time in seconds, written only when given (`--timing-metadata`): it
+    /// differs between runs, and the same input must give the same bytes by default.
+    pub render_seconds: Option<f32>,
     /// The exposure in stops already applied to the film's colour ([`crate::film::Film::expose`]);
     /// recorded, not applied, here.
     pub exposure: f32,
@@ -85,7 +88,7 @@ impl Default for ExrMetadata {
             float_rgba: false,
             spp_per_axis: 1,
             lens_samples: 1,
-            render_seconds: 0.0,
+            render_seconds: None,
             exposure: 0.0,
             z_miss: f32::INFINITY,
             partial: false,
@@ -110,14 +113,22 @@ pub fn write_exr(
     )));
     attributes.chromaticities = Some(REC709_D65);
     let image = Image::new(attributes, build_layer(film, camera, meta));
+    let mut encoded = std::io::Cursor::new(Vec::new());
+    image
+        .write()
+        .to_buffered(&mut encoded)
+        .map_err(|source| OutputError::Exr {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    let encoded = encoded.into_inner();
+    // Same input, same bytes: the crate's attribute order varies from run to run.
+    let bytes = sorted_header(&encoded).unwrap_or(encoded);
     write_atomically(path, |w| {
-        image
-            .write()
-            .to_buffered(w)
-            .map_err(|source| OutputError::Exr {
-                path: path.to_path_buf(),
-                source,
-            })
+        w.write_all(&bytes).map_err(|source| OutputError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
     })
 }
 
@@ -214,6 +225,9 @@ fn build_layer(
             Lens::Pinhole => {}
         }
     }
+    if let Some(seconds) = meta.render_seconds {
+        extra.push((ATTR_RENDER_SECONDS, AttributeValue::F32(seconds)));
+    }
     if meta.partial {
         extra.push((ATTR_PARTIAL, AttributeValue::I32(1)));
     }
@@ -221,10 +235,6 @@ fn build_layer(
         (ATTR_RENDERER, AttributeValue::Text(Text::from(SOFTWARE))),
         (ATTR_SPP, int(per_axis * per_axis)),
         (ATTR_SPP_PER_AXIS, int(per_axis)),
-        (
-            ATTR_RENDER_SECONDS,
-            AttributeValue::F32(meta.render_seconds),
-        ),
         (ATTR_EXPOSURE, AttributeValue::F32(meta.exposure)),
     ]
     .into_iter()

@@ -20,6 +20,7 @@ mod exposure;
 // Public for the binary's other result files (`lumis hits` writes .npy arrays through it).
 pub use self::atomic::write_atomically;
 mod exr;
+mod header_order;
 mod png;
 
 use std::path::{Path, PathBuf};

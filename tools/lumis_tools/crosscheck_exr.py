@@ -13,7 +13,8 @@ the contract of src/output/exr.rs:
                display window = the requested size; channels exactly R G B A Z N.X N.Y N.Z
                id.prim id.object; Z, N.*, id.* FLOAT; R G B A HALF (FLOAT with --float).
   header       worldToCamera and worldToNDC (M44f); software = lumis/renderer = "lumis
-               <version>"; lumis/spp (int) = spp^2; lumis/renderSeconds (float) >= 0.
+               <version>"; lumis/spp (int) = spp^2; lumis/sppPerAxis (int) = spp;
+               chromaticities = Rec.709/D65; lumis/renderSeconds absent or (float) >= 0.
   conventions  the matrices read as OpenEXR/Imath does (row vectors, p' = p * M): every
                pixel's worldToNDC ray passes through the worldToCamera eye, camera +z is the
                view direction, NDC (0,0) is the top-left and (1,1) the bottom-right corner,

@@ -110,10 +110,20 @@ def check_header(spec, spp, checks):
     checks.add("lumis/spp (int, spp^2)", ok,
                f"{a.value if a is not None else None} ({a.type if a is not None else 'missing'}), "
             f"spp {spp}")
+    a = attribute(spec, "lumis/sppPerAxis")
+    ok = a is not None and a.type == oiio.TypeInt and (spp is None or a.value == spp)
+    checks.add("lumis/sppPerAxis (int, spp)", ok, f"{a.value if a is not None else None}")
+    # Only with --timing-metadata: by default the same input gives the same bytes.
     a = attribute(spec, "lumis/renderSeconds")
-    checks.add("lumis/renderSeconds (float >= 0)",
-               a is not None and a.type == oiio.TypeFloat and a.value >= 0,
+    checks.add("lumis/renderSeconds absent, or float >= 0",
+               a is None or (a.type == oiio.TypeFloat and a.value >= 0),
                f"{a.value if a is not None else None}")
+    # Rec.709 / sRGB primaries and the D65 white point, as ITU-R BT.709 gives them.
+    a = attribute(spec, "chromaticities")
+    want = [0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290]
+    got = list(np.ravel(a.value)) if a is not None else None
+    checks.add("chromaticities = Rec.709, D65",
+               got is not None and np.allclose(got, want, rtol=0, atol=1e-6), f"{got}")
     return w2c, w2ndc
 
 
