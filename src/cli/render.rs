@@ -191,7 +191,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         float_rgba: args.float,
         spp_per_axis: scene.settings().spp,
         lens_samples: rendered.analysis.lens_rays,
-        render_seconds: args.timing_metadata.then(|| times.render.as_secs_f32()),
+        render_seconds: args.timing_metadata.then_some(times.render.as_secs_f32()),
         exposure,
         z_miss: args.window.z_miss,
         partial: rendered.is_partial(),
