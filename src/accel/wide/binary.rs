@@ -114,7 +114,6 @@ mod tests {
     use super::*;
     use crate::accel::test_boxes::scattered;
     use crate::accel::{BuildOptions, sah};
-    use crate::math::Vec3;
 
     /// Every node of a binary tree as (bounds, leaf primitives in order), sorted.
     fn contents(b: &Bvh) -> Vec<String> {
