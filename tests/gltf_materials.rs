@@ -35,6 +35,13 @@ fn render_front(s: &mut Scene, size: u32, kind: AccelKind) -> Film {
     common::render::film(s.clone(), (size, size), kind, &BuildOptions::default())
 }
 
+/// Asset `name` by [`render_front`] at 16 pixels with background `sky`, which mirrors show.
+fn front_under_sky(name: &str, sky: Vec3) -> Film {
+    let mut s = load(name);
+    s.settings_mut().background = sky;
+    render_front(&mut s, 16, AccelKind::Sah)
+}
+
 /// The irradiance of the scene's one directional light.
 fn sun(s: &Scene) -> f32 {
     match s.lights() {
@@ -104,10 +111,8 @@ fn normal_texture_bends_shading_with_file_and_generated_tangents() {
 
 #[test]
 fn metallic_roughness_texture_makes_a_mirror_where_it_says() {
-    let mut s = load("metal_rough.gltf");
     let sky = Vec3::new(0.1, 0.2, 0.3);
-    s.settings_mut().background = sky;
-    let film = render_front(&mut s, 16, AccelKind::Sah);
+    let film = front_under_sky("metal_rough.gltf", sky);
     // Left: rough dielectric, white diffuse under ambient 1. Right: smooth metal, a mirror
     // showing the background, no diffuse.
     assert_rgb(&film, 4, 8, Vec3::ONE, "rough dielectric");
@@ -194,10 +199,8 @@ fn specular_extension_scales_the_highlight_by_factor_colour_and_ior() {
 
 #[test]
 fn clearcoat_adds_a_mirror_of_the_documented_weight() {
-    let mut s = load("clearcoat.gltf");
     let sky = Vec3::new(10.0, 20.0, 40.0);
-    s.settings_mut().background = sky;
-    let film = render_front(&mut s, 16, AccelKind::Sah);
+    let film = front_under_sky("clearcoat.gltf", sky);
     // Quarters: clearcoatFactor * 0.04 * (1 - clearcoatRoughness)^2 of the background over
     // base 0.5 under ambient 1; a rough coat shows nothing (Whitted has no glossy lobe).
     let weights = [0.0, 0.04, 0.5 * 0.04 * 0.75 * 0.75, 0.0];
