@@ -2,7 +2,7 @@
 //! containers agree pixel for pixel, and counts, bounds, materials, lights and cameras match what
 //! the generator put in.
 
-use std::path::{Path, PathBuf};
+mod common;
 
 use lumis::accel::{AccelKind, BuildOptions};
 use lumis::formats::{self, LoadOptions};
@@ -10,18 +10,13 @@ use lumis::geometry::Mesh;
 use lumis::light::Light;
 use lumis::material::Texture;
 use lumis::math::{Aabb, Vec3};
-use lumis::render::{RenderOptions, render};
-use lumis::scene::{Scene, World};
+use lumis::scene::Scene;
 use lumis::texture::srgb_to_linear;
 
-fn asset(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/gltf")
-        .join(name)
-}
+use common::files::gltf_asset as asset;
 
 fn load(name: &str) -> Scene {
-    formats::load(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e:#?}"))
+    common::render::load(&asset(name))
 }
 
 fn close(a: Vec3, b: Vec3) -> bool {
@@ -62,19 +57,12 @@ fn gltf_bin_data_uri_and_glb_render_identical_depth_and_ids() {
             )
             .unwrap();
             s.set_camera(cam);
-            let st = s.settings_mut();
-            (st.width, st.height, st.spp) = (48, 32, 1);
-            let world = World::build(
-                s.clone(),
+            common::render::film(
+                s,
+                (48, 32),
                 AccelKind::Sah,
                 &BuildOptions { max_leaf_size: 4 },
-            );
-            let opts = RenderOptions {
-                seed: 1,
-                threads: Some(1),
-                ..RenderOptions::default()
-            };
-            render(&world, &opts).unwrap().film
+            )
         })
         .collect();
     let hits = films[0].aov().iter().filter(|a| a.prim_id >= 0).count();

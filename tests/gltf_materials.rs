@@ -11,20 +11,17 @@ use std::process::Command;
 use lumis::accel::{AccelKind, BuildOptions};
 use lumis::camera::Camera;
 use lumis::film::Film;
-use lumis::formats;
+use lumis::formats::{self, LoadOptions};
 use lumis::light::Light;
 use lumis::math::{Ray, Vec3};
-use lumis::render::{RenderOptions, render};
 use lumis::scene::{Scene, World};
 
 fn asset(name: &str) -> PathBuf {
-    common::files::root()
-        .join("assets/gltf/materials")
-        .join(name)
+    common::files::gltf_asset("materials").join(name)
 }
 
 fn load(name: &str) -> Scene {
-    formats::load(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e:#?}"))
+    common::render::load(&asset(name))
 }
 
 /// Renders `s` `size` pixels square through `kind` from a camera on +Z whose view is exactly
@@ -34,15 +31,15 @@ fn render_front(s: &mut Scene, size: u32, kind: AccelKind) -> Film {
     let distance = 1.0 / 20f32.to_radians().tan();
     let cam = Camera::look_at(Vec3::Z * distance, Vec3::ZERO, Vec3::Y, 40.0, 0.0, None).unwrap();
     s.set_camera(cam);
-    let st = s.settings_mut();
-    (st.width, st.height, st.spp, st.ambient) = (size, size, 1, Vec3::ONE);
-    let world = World::build(s.clone(), kind, &BuildOptions::default());
-    let opts = RenderOptions {
-        seed: 1,
-        threads: Some(2),
-        ..RenderOptions::default()
-    };
-    render(&world, &opts).unwrap().film
+    s.settings_mut().ambient = Vec3::ONE;
+    common::render::film(s.clone(), (size, size), kind, &BuildOptions::default())
+}
+
+/// Asset `name` by [`render_front`] at 16 pixels with background `sky`, which mirrors show.
+fn front_under_sky(name: &str, sky: Vec3) -> Film {
+    let mut s = load(name);
+    s.settings_mut().background = sky;
+    render_front(&mut s, 16, AccelKind::Sah)
 }
 
 /// The irradiance of the scene's one directional light.
@@ -114,10 +111,8 @@ fn normal_texture_bends_shading_with_file_and_generated_tangents() {
 
 #[test]
 fn metallic_roughness_texture_makes_a_mirror_where_it_says() {
-    let mut s = load("metal_rough.gltf");
     let sky = Vec3::new(0.1, 0.2, 0.3);
-    s.settings_mut().background = sky;
-    let film = render_front(&mut s, 16, AccelKind::Sah);
+    let film = front_under_sky("metal_rough.gltf", sky);
     // Left: rough dielectric, white diffuse under ambient 1. Right: smooth metal, a mirror
     // showing the background, no diffuse.
     assert_rgb(&film, 4, 8, Vec3::ONE, "rough dielectric");
@@ -131,6 +126,89 @@ fn occlusion_texture_scales_the_ambient_term() {
     // 1 + strength (R - 1): 0.5 for R = 0, 1 for R = 255.
     assert_rgb(&film, 4, 8, Vec3::splat(0.5), "occluded");
     assert_rgb(&film, 12, 8, Vec3::ONE, "open");
+}
+
+/// The lowest and highest view cosine over pixel `(x, y)`'s footprint on the plane z = 0 seen
+/// by [`render_front`]'s camera (`size` pixels square): the jittered sample lies somewhere in it.
+fn view_cosines(x: u32, y: u32, size: u32) -> (f32, f32) {
+    let d = 1.0 / 20f32.to_radians().tan();
+    let span = |k: u32| {
+        let (a, b) = (
+            -1.0 + 2.0 * k as f32 / size as f32,
+            -1.0 + 2.0 * (k + 1) as f32 / size as f32,
+        );
+        let near = if a <= 0.0 && b >= 0.0 {
+            0.0
+        } else {
+            a.abs().min(b.abs())
+        };
+        (near, a.abs().max(b.abs()))
+    };
+    let ((near_x, far_x), (near_y, far_y)) = (span(x), span(y));
+    let cos = |u: f32, v: f32| d / (d * d + u * u + v * v).sqrt();
+    (cos(far_x, far_y), cos(near_x, near_y))
+}
+
+#[test]
+fn specular_extension_scales_the_highlight_by_factor_colour_and_ior() {
+    // Each scene: base 0.5, roughness 0.5 (Phong exponent 2 / 0.5^4 - 2 = 30), lit head-on.
+    let (n, kd, size) = (30.0, 0.5, 16);
+    let scenes: Vec<Scene> = (0..4)
+        .map(|i| {
+            let options = LoadOptions {
+                scene: Some(i),
+                ..LoadOptions::default()
+            };
+            formats::load_with(&asset("specular.gltf"), &options).unwrap()
+        })
+        .collect();
+    let e = sun(&scenes[0]);
+    let films: Vec<Film> = scenes
+        .into_iter()
+        .map(|mut s| render_front(&mut s, size, AccelKind::Sah))
+        .collect();
+    // F0 by docs/gltf.md: 0.04 without the extension, 0 at specularFactor 0, then
+    // min(((ior - 1) / (ior + 1))^2 * specularColorFactor, 1) * specularFactor.
+    let ior_f0 = (0.75f32 / 2.75).powi(2);
+    let tinted = Vec3::new(0.04, 0.02, 0.01) * 0.5;
+    let with_ior = (Vec3::new(30.0, 1.0, 0.5) * ior_f0).min(Vec3::ONE) * 0.5;
+    let lobe = e * (n + 2.0) * 0.5 / std::f32::consts::PI;
+    for (x, y) in (0..size).flat_map(|y| (0..size).map(move |x| (x, y))) {
+        // F0 = 0: no highlight, only ambient and Lambert.
+        let base = Vec3::splat(kd * (1.0 + e / std::f32::consts::PI));
+        assert_rgb(&films[1], x, y, base, "specularFactor 0");
+        // The plain quad's highlight per unit F0 is the Phong lobe at this pixel's view ray.
+        let q = (rgb(&films[0], x, y) - base) / 0.04;
+        let (lo, hi) = view_cosines(x, y, size);
+        assert!(
+            q.x > lobe * lo.powf(n) * 0.999 && q.x < lobe * hi.powf(n) * 1.001,
+            "pixel ({x}, {y}): lobe {q} outside {} .. {}",
+            lobe * lo.powf(n),
+            lobe * hi.powf(n)
+        );
+        assert_rgb(&films[2], x, y, base + tinted * q.x, "tinted");
+        assert_rgb(
+            &films[3],
+            x,
+            y,
+            base + with_ior * q.x,
+            "colour over 1, ior 1.75",
+        );
+    }
+}
+
+#[test]
+fn clearcoat_adds_a_mirror_of_the_documented_weight() {
+    let sky = Vec3::new(10.0, 20.0, 40.0);
+    let film = front_under_sky("clearcoat.gltf", sky);
+    // Quarters: clearcoatFactor * 0.04 * (1 - clearcoatRoughness)^2 of the background over
+    // base 0.5 under ambient 1; a rough coat shows nothing (Whitted has no glossy lobe).
+    let weights = [0.0, 0.04, 0.5 * 0.04 * 0.75 * 0.75, 0.0];
+    for (x, y) in (0..16).flat_map(|y| (0..16).map(move |x| (x, y))) {
+        let quarter = (x / 8 + 2 * (y / 8)) as usize;
+        let want = Vec3::splat(0.5) + weights[quarter] * sky;
+        assert_rgb(&film, x, y, want, &format!("quarter {quarter}"));
+    }
 }
 
 #[test]
@@ -228,17 +306,7 @@ fn quantized_mesh_matches_the_float_one() {
     assert_eq!(q.geometry().bounds(), f.geometry().bounds());
     let films: Vec<Film> = [q, f]
         .into_iter()
-        .map(|mut s| {
-            let st = s.settings_mut();
-            (st.width, st.height, st.spp) = (32, 24, 1);
-            let world = World::build(s.clone(), AccelKind::Sah, &BuildOptions::default());
-            let opts = RenderOptions {
-                seed: 1,
-                threads: Some(1),
-                ..RenderOptions::default()
-            };
-            render(&world, &opts).unwrap().film
-        })
+        .map(|s| common::render::film(s, (32, 24), AccelKind::Sah, &BuildOptions::default()))
         .collect();
     let seen = films[0].aov().iter().filter(|a| a.prim_id >= 0).count();
     assert!(seen > 100, "{seen}");

@@ -2,39 +2,25 @@
 //! POSITION without min/max), orthographic cameras (glTF and TOML), photometric light units and
 //! the default rig following the file's camera; on the assets `tools/gen_gltf_assets.py` writes.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use lumis::accel::{AccelKind, BuildOptions};
 use lumis::film::Film;
 use lumis::formats;
 use lumis::light::Light;
-use lumis::render::{RenderOptions, render};
-use lumis::scene::{Scene, World};
+use lumis::scene::Scene;
 
-fn asset(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/gltf")
-        .join(name)
-}
+use common::files::gltf_asset as asset;
 
 fn load(name: &str) -> Scene {
-    formats::load(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e:#}"))
+    common::render::load(&asset(name))
 }
 
-fn render_at(mut s: Scene, width: u32, height: u32) -> Film {
-    let st = s.settings_mut();
-    (st.width, st.height, st.spp) = (width, height, 1);
-    let world = World::build(
-        s.clone(),
-        AccelKind::Sah,
-        &BuildOptions { max_leaf_size: 4 },
-    );
-    let opts = RenderOptions {
-        seed: 1,
-        threads: Some(2),
-        ..RenderOptions::default()
-    };
-    render(&world, &opts).unwrap().film
+fn render_at(s: Scene, width: u32, height: u32) -> Film {
+    let build = BuildOptions { max_leaf_size: 4 };
+    common::render::film(s, (width, height), AccelKind::Sah, &build)
 }
 
 fn warned(s: &Scene, pieces: &[&str]) -> bool {

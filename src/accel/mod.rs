@@ -19,6 +19,8 @@ pub(crate) mod leaves;
 pub(crate) mod sah;
 mod segments;
 mod slab;
+#[cfg(test)]
+mod test_boxes;
 mod wide;
 
 pub use bsp::SplitRule;

@@ -19,7 +19,8 @@ use std::sync::Arc;
 use crate::math::Vec3;
 pub use crate::texture::{NormalMap, Texture};
 pub use textured::{
-    AtHit, MAX_SHININESS, MetalRough, TexturedParams, metal_rough, textured_bounds,
+    AtHit, DIELECTRIC_F0, MAX_SHININESS, MetalRough, TexturedParams, dielectric_f0, metal_rough,
+    textured_bounds,
 };
 
 /// A material. Colours are linear RGB.

@@ -20,6 +20,18 @@ use crate::texture::TextureRef;
 /// Largest Phong exponent a perfectly smooth surface gets.
 pub const MAX_SHININESS: f32 = 10_000.0;
 
+/// Reflectance at normal incidence of glTF's default dielectric (ior 1.5): its F0 without
+/// `KHR_materials_ior`, and the fixed F0 of a `KHR_materials_clearcoat` layer.
+pub const DIELECTRIC_F0: f32 = 0.04;
+
+/// Reflectance at normal incidence of a dielectric of index `ior` in air,
+/// `((ior - 1) / (ior + 1))^2` (the F0 `KHR_materials_ior` defines). Worked in `f64` so that
+/// ior 1.5 gives exactly [`DIELECTRIC_F0`] (in `f32` the square rounds one step above it).
+pub fn dielectric_f0(ior: f32) -> f32 {
+    let r = (f64::from(ior) - 1.0) / (f64::from(ior) + 1.0);
+    (r * r) as f32
+}
+
 /// The Whitted parameters of one metallic-roughness point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MetalRough {
@@ -37,7 +49,7 @@ pub struct MetalRough {
 /// in [0, 1]) and smoothness `s = (1 - r)^2`: mirror `m s` (Whitted has no glossy lobe: only
 /// smooth metal mirrors), diffuse `c (1 - m s)(1 - t)` (a rough metal's broad lobe lit by
 /// point lights looks diffuse), Phong `ks = lerp(f0, c, m)` (`f0` is glTF's 0.04 unless
-/// `KHR_materials_specular` scales it) with the Blinn-Phong exponent of the GGX lobe's width
+/// `KHR_materials_ior` or `KHR_materials_specular` change it) with the Blinn-Phong exponent of the GGX lobe's width
 /// `2 / alpha^2 - 2`, `alpha = r^2`, at most [`MAX_SHININESS`].
 pub fn metal_rough(c: Vec3, m: f32, r: f32, t: f32, f0: Vec3) -> MetalRough {
     let smooth = (1.0 - r) * (1.0 - r);
@@ -63,7 +75,8 @@ pub struct TexturedParams {
     pub roughness: f32,
     /// `metallicRoughnessTexture` (linear; B metal, G roughness).
     pub metal_rough_texture: Option<TextureRef>,
-    /// Dielectric reflectance at normal incidence (0.04, or `KHR_materials_specular`'s).
+    /// Dielectric reflectance at normal incidence (0.04, or from `KHR_materials_ior` and
+    /// `KHR_materials_specular`).
     pub f0: Vec3,
     /// Mirror weight added by `KHR_materials_clearcoat`.
     pub clearcoat: f32,
@@ -93,6 +106,26 @@ pub struct AtHit {
 }
 
 impl TexturedParams {
+    /// A white, fully rough dielectric without textures (glTF's factor defaults but metallic
+    /// 0): the parameters a mesh without a material evaluates its vertex colours with.
+    pub fn white_dielectric() -> Self {
+        Self {
+            base_color: Vec4::ONE,
+            base_texture: None,
+            metallic: 0.0,
+            roughness: 1.0,
+            metal_rough_texture: None,
+            f0: Vec3::splat(DIELECTRIC_F0),
+            clearcoat: 0.0,
+            transmission: 0.0,
+            blend: false,
+            emission: Vec3::ZERO,
+            emissive_texture: None,
+            normal_texture: None,
+            occlusion_texture: None,
+        }
+    }
+
     /// Base colour (RGB) and alpha at a hit with attributes `at`.
     fn base(&self, at: &HitAttributes) -> Vec4 {
         let tex = self
@@ -213,24 +246,6 @@ mod tests {
         }
     }
 
-    fn params() -> TexturedParams {
-        TexturedParams {
-            base_color: Vec4::ONE,
-            base_texture: None,
-            metallic: 0.0,
-            roughness: 1.0,
-            metal_rough_texture: None,
-            f0: Vec3::splat(0.04),
-            clearcoat: 0.0,
-            transmission: 0.0,
-            blend: false,
-            emission: Vec3::ZERO,
-            emissive_texture: None,
-            normal_texture: None,
-            occlusion_texture: None,
-        }
-    }
-
     fn at_hit(p: TexturedParams, at: &HitAttributes) -> AtHit {
         let m = Material {
             textured: Some(Arc::new(p)),
@@ -246,6 +261,13 @@ mod tests {
     };
 
     #[test]
+    fn dielectric_f0_is_gltfs_constant_at_ior_1_5() {
+        assert_eq!(dielectric_f0(1.5), DIELECTRIC_F0);
+        assert_eq!(dielectric_f0(1.0), 0.0);
+        assert!((dielectric_f0(2.0) - 1.0 / 9.0).abs() < 1e-7);
+    }
+
+    #[test]
     fn metal_roughness_texture_and_emission_multiply_their_factors() {
         let p = TexturedParams {
             metallic: 1.0,
@@ -254,7 +276,7 @@ mod tests {
             metal_rough_texture: Some(solid([0, 0, 255, 255], Encoding::Linear)),
             emission: Vec3::new(2.0, 1.0, 0.0),
             emissive_texture: Some(solid([255, 128, 255, 255], Encoding::Srgb)),
-            ..params()
+            ..TexturedParams::white_dielectric()
         };
         let h = at_hit(p, &AT);
         assert_eq!(h.material.reflectivity, 1.0);
@@ -271,7 +293,7 @@ mod tests {
             occlusion_texture: Some((solid([0, 0, 0, 255], Encoding::Linear), 0.5)),
             // (255, 128, 255): a normal tipped towards +x in tangent space.
             normal_texture: Some((solid([255, 128, 255, 255], Encoding::Linear), 1.0)),
-            ..params()
+            ..TexturedParams::white_dielectric()
         };
         let at = HitAttributes {
             color: Vec4::new(0.5, 1.0, 1.0, 1.0),

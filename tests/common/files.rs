@@ -8,6 +8,11 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// `name` in the project's glTF assets, `assets/gltf/`.
+pub fn gltf_asset(name: &str) -> PathBuf {
+    root().join("assets/gltf").join(name)
+}
+
 /// The paper's `.scn` scenes in `../shared/paper-scenes/scenes`, sorted. Empty (with a note on
 /// stderr) when the folder is missing, unless `LUMIS_REQUIRE_PAPER_SCENES` is set (CI): then a
 /// missing folder fails the test instead of silently skipping it.

@@ -1,5 +1,6 @@
 //! Shared helpers for the integration tests and the accelerator benchmark: a seeded RNG,
-//! scene generators ([`scenes`]), ray generators ([`rays`]) and the list of accelerator kinds.
+//! scene generators ([`scenes`]), ray generators ([`rays`]), model files and their renders
+//! ([`files`], [`render`]) and the list of accelerator kinds.
 //!
 //! Everything is deterministic: the same seed gives the same scene and rays on every machine,
 //! so a failure names a seed and a ray index that reproduce it.
@@ -9,6 +10,7 @@
 
 pub mod files;
 pub mod rays;
+pub mod render;
 pub mod scenes;
 
 use lumis::accel::{Accel, AccelKind, BuildOptions, Hit, TraversalStats};

@@ -22,6 +22,12 @@ pixel shows emission + base colour * occlusion wherever the material is a rough 
                       a quad below reads TEXCOORD_1, which is TEXCOORD_0 mirrored in u.
   transform.gltf      a 2x1 (black, white) NEAREST texture with KHR_texture_transform
                       scale (2, 1), offset (0.25, 0).
+  specular.gltf       one scene per KHR_materials_specular variant, each a grey (0.5) quad of
+                      roughness 0.5 lit head-on (irradiance 3): no extension; specularFactor 0;
+                      factor 0.5 with specularColorFactor (1, 0.5, 0.25); factor 0.5, colour
+                      (30, 1, 0.5) and KHR_materials_ior 1.75.
+  clearcoat.gltf      a rough grey (0.5) quad whose quarters have KHR_materials_clearcoat: none;
+                      factor 1; factor 0.5 roughness 0.25; factor 1 roughness 1.
   quantized.gltf      a unit cube with KHR_mesh_quantization: SHORT normalized positions (+-1,
                       node scale 0.5), BYTE normalized normals, UNSIGNED_BYTE normalized texcoords;
   quantized_float.gltf  the same cube in floats.
@@ -33,16 +39,18 @@ pixel shows emission + base colour * occlusion wherever the material is a rough 
 
 import os
 import struct
-import zlib
 
-F32, I8, U8, I16, U16 = 5126, 5120, 5121, 5122, 5123
-ARRAY, ELEMENT = 34962, 34963
+from .gltf_doc import ARRAY, ELEMENT, F32, I8, I16, U8, U16, Doc, cube, png, write_json
+
 NEAREST, LINEAR = 9728, 9729
 REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
 
 QUAD = [[-1, 1, 0], [1, 1, 0], [1, -1, 0], [-1, -1, 0]]
 QUAD_UV = [[0, 0], [1, 0], [1, 1], [0, 1]]
 QUAD_IDX = [0, 3, 2, 0, 2, 1]  # counter-clockwise seen from +Z
+# The quad's four quarters (top-left, top-right, bottom-left, bottom-right), as QUAD is laid out.
+QUARTERS = [[[x0 + a, y0 + b, 0] for a, b in ((0, 0), (1, 0), (1, -1), (0, -1))]
+            for x0, y0 in ((-1, 1), (0, 1), (-1, 0), (0, 0))]
 
 
 def accessor(doc, comp, kind, values, normalized=False, minmax=False):
@@ -108,21 +116,8 @@ def rough(base=(1, 1, 1, 1), **kw):
     return m
 
 
-def png(width, height, rows, alpha=False):
-    """An 8-bit RGB (or RGBA) PNG."""
-    raw = b"".join(b"\0" + bytes(c for px in row for c in px) for row in rows)
-
-    def chunk(tag, data):
-        return (struct.pack(">I", len(data)) + tag + data
-                + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
-    kind = 6 if alpha else 2
-    return (b"\x89PNG\r\n\x1a\n"
-            + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, kind, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
-
-
-def generate(Doc, write_json, out):
-    """Writes every asset into `out` with gen_gltf_assets's Doc and write_json."""
+def generate(out):
+    """Writes every asset into `out`."""
     os.makedirs(out, exist_ok=True)
 
     def save_png(name, w, h, rows, alpha=False):
@@ -180,14 +175,12 @@ def generate(Doc, write_json, out):
     # Vertex colours, one quarter each.
     d = Doc()
     m = d.material(rough((0.5, 1, 1, 1)))
-    quarters = [(-1, 1), (0, 1), (-1, 0), (0, 0)]
     colours = [lambda: accessor(d, F32, "VEC3", [[1, 0.5, 0.25]] * 4),
                lambda: accessor(d, U8, "VEC4", [[51, 102, 153, 255]] * 4, normalized=True),
                lambda: accessor(d, U16, "VEC3", [[65535, 13107, 0]] * 4, normalized=True),
                None]
     prims = []
-    for (x0, y0), colour in zip(quarters, colours):
-        pos = [[x0 + a, y0 + b, 0] for a, b in ((0, 0), (1, 0), (1, -1), (0, -1))]
+    for pos, colour in zip(QUARTERS, colours):
         extra = {"COLOR_0": colour()} if colour else {}
         prims.append(quad(d, m, pos=pos, extra=extra))
     d.node(mesh=d.mesh(prims), name="quarters")
@@ -229,6 +222,44 @@ def generate(Doc, write_json, out):
     d.node(mesh=d.mesh([quad(d, m)]), name="quad")
     dark_light(d)
     written(d, "transform")
+
+    # KHR_materials_specular: one grey roughness-0.5 quad per scene, lit head-on (along -Z),
+    # so that every scene's pixel sees the same view ray and the same Phong lobe.
+    d = Doc()
+    d.j["extensionsUsed"] = ["KHR_lights_punctual", "KHR_materials_specular",
+                             "KHR_materials_ior"]
+    d.j["extensions"] = {"KHR_lights_punctual": {"lights": [
+        {"type": "directional", "intensity": 2049}]}}
+    light = d.node(root=False, name="light", extensions={"KHR_lights_punctual": {"light": 0}})
+    variants = [("plain", {}),
+                ("none", {"KHR_materials_specular": {"specularFactor": 0.0}}),
+                ("tinted", {"KHR_materials_specular": {"specularFactor": 0.5,
+                                                       "specularColorFactor": [1, 0.5, 0.25]}}),
+                ("ior", {"KHR_materials_specular": {"specularFactor": 0.5,
+                                                    "specularColorFactor": [30, 1, 0.5]},
+                         "KHR_materials_ior": {"ior": 1.75}})]
+    d.j["scenes"] = []
+    for name, extensions in variants:
+        m = d.material({"name": name, "pbrMetallicRoughness": {
+            "baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0.0, "roughnessFactor": 0.5},
+            **({"extensions": extensions} if extensions else {})})
+        q = d.node(root=False, mesh=d.mesh([quad(d, m)]), name=name)
+        d.j["scenes"].append({"name": name, "nodes": [q, light]})
+    written(d, "specular")
+
+    # KHR_materials_clearcoat on a rough grey quad, one coat per quarter, no light.
+    d = Doc()
+    d.j["extensionsUsed"] = ["KHR_materials_clearcoat"]
+    coats = [None, {"clearcoatFactor": 1.0}, {"clearcoatFactor": 0.5, "clearcoatRoughness": 0.25},
+             {"clearcoatFactor": 1.0, "clearcoatRoughness": 1.0}]
+    prims = []
+    for pos, coat in zip(QUARTERS, coats):
+        extensions = {"extensions": {"KHR_materials_clearcoat": coat}} if coat else {}
+        m = d.material(rough((0.5, 0.5, 0.5, 1), **extensions))
+        prims.append(quad(d, m, pos=pos))
+    d.node(mesh=d.mesh(prims), name="coats")
+    dark_light(d)
+    written(d, "clearcoat")
 
     # Quantized and float cubes.
     pos, nor, uv, idx = cube()
@@ -293,24 +324,3 @@ def rotation_between(a, b):
     n = (sum(c * c for c in cross) + w * w) ** 0.5
     return [c / n for c in cross] + [w / n]
 
-
-def cube():
-    """A unit cube (as gen_gltf_assets.cube_prim): positions, normals, uvs, indices."""
-    pos, nor, uv, idx = [], [], [], []
-    for axis in range(3):
-        for sign in (1.0, -1.0):
-            n = [0.0, 0.0, 0.0]
-            n[axis] = sign
-            u = [0.0, 0.0, 0.0]
-            v = [0.0, 0.0, 0.0]
-            u[(axis + 1) % 3] = 1.0
-            v[(axis + 2) % 3] = 1.0
-            if sign < 0:
-                u, v = v, u
-            base = len(pos)
-            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
-                pos.append([0.5 * (n[i] + a * u[i] + b * v[i]) for i in range(3)])
-                nor.append(n)
-                uv.append([(a + 1) / 2, (b + 1) / 2])
-            idx += [base, base + 1, base + 2, base, base + 2, base + 3]
-    return pos, nor, uv, idx

@@ -1,4 +1,5 @@
 use super::*;
+use crate::accel::test_boxes::scattered as boxes;
 use crate::math::Vec3;
 
 /// Four unit boxes in a row, two units apart.
@@ -7,24 +8,6 @@ fn row_of_four() -> Vec<Aabb> {
         .map(|i| {
             let x = 3.0 * i as f32;
             Aabb::new(Vec3::new(x, 0.0, 0.0), Vec3::new(x + 1.0, 1.0, 1.0))
-        })
-        .collect()
-}
-
-/// Seeded boxes scattered over a cube, some tiny, some long.
-fn boxes(n: usize, seed: u64) -> Vec<Aabb> {
-    let mut s = 0x9e37_79b9_7f4a_7c15u64 ^ seed;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 40) as f32 / (1u64 << 24) as f32
-    };
-    (0..n)
-        .map(|_| {
-            let c = Vec3::new(next(), next(), next()) * 100.0;
-            let e = Vec3::new(next(), next(), next()) * next() * 10.0;
-            Aabb::new(c - e, c + e)
         })
         .collect()
 }

@@ -112,26 +112,8 @@ const EMPTY_NODE: Node = Node {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::test_boxes::scattered;
     use crate::accel::{BuildOptions, sah};
-    use crate::math::Vec3;
-
-    /// Seeded boxes scattered over a cube, some tiny, some long.
-    fn boxes(n: usize) -> Vec<Aabb> {
-        let mut s = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
-        (0..n)
-            .map(|_| {
-                let c = Vec3::new(next(), next(), next()) * 100.0;
-                let e = Vec3::new(next(), next(), next()) * next() * 10.0;
-                Aabb::new(c - e, c + e)
-            })
-            .collect()
-    }
 
     /// Every node of a binary tree as (bounds, leaf primitives in order), sorted.
     fn contents(b: &Bvh) -> Vec<String> {
@@ -154,7 +136,7 @@ mod tests {
     #[test]
     fn unfolding_gives_back_the_binary_tree() {
         for (n, leaf) in [(1, 4), (2, 1), (7, 4), (300, 1), (2000, 4), (2000, 20)] {
-            let bounds = boxes(n);
+            let bounds = scattered(n, 0);
             let binary = sah::build(
                 &bounds,
                 &[],

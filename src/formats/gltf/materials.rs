@@ -9,8 +9,9 @@
 //! - `alphaMode` BLEND without transmission: `transmission = 1 - alpha`, `ior = 1` (a straight
 //!   see-through, with a warning); MASK: an alpha test during intersection (see
 //!   [`crate::geometry::AlphaTest`]), the surface opaque where it passes;
-//! - `KHR_materials_specular` scales the dielectric F0 (0.04) by `specularFactor *
-//!   specularColorFactor`; `KHR_materials_clearcoat` adds a mirror of weight
+//! - the dielectric F0 is `((ior - 1) / (ior + 1))^2` (0.04 at the default 1.5), and
+//!   `KHR_materials_specular` makes it `min(F0 * specularColorFactor, 1) * specularFactor`
+//!   (the extension's rule); `KHR_materials_clearcoat` adds a mirror of weight
 //!   `clearcoatFactor * 0.04 * (1 - clearcoatRoughness)^2`;
 //! - everything else (sheen, volume, unlit, their textures, unknown extensions) is ignored with
 //!   a warning naming it and the material.
@@ -21,12 +22,11 @@ use serde_json::Value;
 
 use super::textures::{Images, Slot, reference};
 use crate::geometry::AlphaTest;
-use crate::material::{Material, Texture, TexturedParams, metal_rough, textured_bounds};
+use crate::material::{
+    DIELECTRIC_F0, Material, Texture, TexturedParams, dielectric_f0, metal_rough, textured_bounds,
+};
 use crate::math::{Vec3, Vec4};
 use crate::texture::Encoding;
-
-/// Reflectance of a dielectric at normal incidence (ior 1.5), glTF's fixed F0.
-const DIELECTRIC_F0: f32 = 0.04;
 
 /// A converted material.
 pub(super) struct Converted {
@@ -53,24 +53,9 @@ impl Converted {
     /// (metallic 1, roughness 1), which a Whitted renderer without environment light would
     /// show almost black; with vertex colours, white dielectric times the colours.
     pub fn default_material() -> Self {
-        let params = TexturedParams {
-            base_color: Vec4::ONE,
-            base_texture: None,
-            metallic: 0.0,
-            roughness: 1.0,
-            metal_rough_texture: None,
-            f0: Vec3::splat(DIELECTRIC_F0),
-            clearcoat: 0.0,
-            transmission: 0.0,
-            blend: false,
-            emission: Vec3::ZERO,
-            emissive_texture: None,
-            normal_texture: None,
-            occlusion_texture: None,
-        };
         Self {
             material: Material::default(),
-            params,
+            params: TexturedParams::white_dielectric(),
             alpha: None,
             needs_tangents: false,
             element: "default material".into(),
@@ -113,6 +98,8 @@ pub(super) fn convert(
         }
         None => 1.5,
     };
+    // The file's index sets F0 even where BLEND below replaces it for refraction.
+    let f0 = dielectric_f0(ior);
     let mut blend = false;
     let mut alpha_test = None;
     match m.alpha_mode() {
@@ -213,7 +200,7 @@ pub(super) fn convert(
         .map(|t| (t, strength))
     });
 
-    let (f0, clearcoat) = extensions(m, &mut warn);
+    let (f0, clearcoat) = extensions(m, f0, &mut warn);
     let params = TexturedParams {
         base_color,
         base_texture,
@@ -305,11 +292,11 @@ pub(super) fn unused_extensions(doc: &gltf::Document, origin: &std::path::Path) 
         .collect()
 }
 
-/// Reads the extensions that map (`KHR_materials_specular`'s factors into F0,
-/// `KHR_materials_clearcoat` into a mirror weight) and warns of every other one and of their
-/// textures. Returns `(f0, clearcoat mirror weight)`.
-fn extensions(m: &gltf::Material, warn: &mut dyn FnMut(String)) -> (Vec3, f32) {
-    let mut f0 = Vec3::splat(DIELECTRIC_F0);
+/// Reads the extensions that map (`KHR_materials_specular`'s factors into the dielectric F0,
+/// which is `ior_f0` without them; `KHR_materials_clearcoat` into a mirror weight) and warns
+/// of every other one and of their textures. Returns `(f0, clearcoat mirror weight)`.
+fn extensions(m: &gltf::Material, ior_f0: f32, warn: &mut dyn FnMut(String)) -> (Vec3, f32) {
+    let mut f0 = Vec3::splat(ior_f0);
     let mut clearcoat = 0.0;
     let Some(exts) = m.extensions() else {
         return (f0, clearcoat);
@@ -345,11 +332,13 @@ fn extensions(m: &gltf::Material, warn: &mut dyn FnMut(String)) -> (Vec3, f32) {
                     .filter(|c| c.is_finite())
                     .unwrap_or(Vec3::ONE)
                     .max(Vec3::ZERO);
-                f0 = (f0 * colour * number(v, "specularFactor", 1.0)).min(Vec3::ONE);
+                // The colour may exceed 1 and is clamped before the factor weights it.
+                f0 = (f0 * colour).min(Vec3::ONE) * number(v, "specularFactor", 1.0);
                 textures(v, name, warn);
             }
             "KHR_materials_clearcoat" => {
                 let smooth = (1.0 - number(v, "clearcoatRoughness", 0.0)).powi(2);
+                // The coat is its own layer of fixed index 1.5, whatever the base's ior.
                 clearcoat = number(v, "clearcoatFactor", 0.0) * DIELECTRIC_F0 * smooth;
                 textures(v, name, warn);
             }
