@@ -8,6 +8,8 @@ pub mod accuracy;
 pub mod bench;
 pub mod hits;
 pub mod info;
+pub mod overrides;
 pub mod render;
 pub mod stats;
+pub mod threads;
 pub mod values;
