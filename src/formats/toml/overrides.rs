@@ -224,3 +224,61 @@ pub fn apply_render_overrides(
     *settings = merged;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn o(s: &str) -> Override {
+        s.parse().unwrap()
+    }
+
+    #[test]
+    fn values_parse_as_toml_and_bare_words_as_strings() {
+        assert_eq!(o("render.spp=4").value, Value::Integer(4));
+        assert_eq!(o("camera.fov=30.5").value, Value::Float(30.5));
+        assert_eq!(
+            o("render.display=\"clamp\"").value,
+            o("render.display=clamp").value
+        );
+        assert_eq!(o("a.b=true").value, Value::Boolean(true));
+        assert_eq!(o("a.b=[1, 2, 3]").value.as_array().map(Vec::len), Some(3));
+        assert_eq!(o(" render.spp = 4 ").key(), "render.spp");
+        assert!(o("render.spp=1").is_render() && !o("camera.fov=1").is_render());
+        for bad in ["render.spp", "render..spp=1", "=1", "a=[1,", "a=x y"] {
+            assert!(bad.parse::<Override>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn keys_address_tables_array_elements_by_index_or_name() {
+        let mut doc: Table =
+            ::toml::from_str("[[sphere]]\nname = \"a\"\nradius = 1\n[[sphere]]\nradius = 2\n")
+                .unwrap();
+        let mut set = |s: &str| {
+            let o = o(s);
+            put(&mut doc, &o.path, &o.value, "")
+        };
+        set("sphere.a.radius=5").unwrap();
+        set("sphere.1.radius=6").unwrap();
+        set("materials.new.ior=1.3").unwrap();
+        assert!(
+            set("sphere.2.radius=1")
+                .unwrap_err()
+                .contains("no element 2")
+        );
+        assert!(
+            set("light.0.intensity=1")
+                .unwrap_err()
+                .contains("not added")
+        );
+        assert!(
+            set("sphere.1.radius.x=1")
+                .unwrap_err()
+                .contains("not a table")
+        );
+        let radius = |i: usize| doc["sphere"][i]["radius"].as_integer();
+        assert_eq!((radius(0), radius(1)), (Some(5), Some(6)));
+        assert_eq!(doc["materials"]["new"]["ior"].as_float(), Some(1.3));
+    }
+}
