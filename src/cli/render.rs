@@ -4,12 +4,13 @@
 use super::accel::AccelArgs;
 use super::accuracy::{AccuracyArgs, CutoffArgs};
 use super::interrupt::{Interrupted, on_ctrl_c};
+use super::overrides::OverrideArgs;
 use super::stats::{PhaseTimes, summary, summary_json};
 use super::values::{DisplayArg, UpArg};
 use super::window::WindowArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use lumis::output::{DisplayTransform, ExrMetadata, write_by_extension};
+use lumis::output::{DisplayTransform, ExrMetadata};
 use lumis::render::{CancelFlag, RenderOptions, render};
 use lumis::scene::UpAxis;
 use std::io::IsTerminal;
@@ -33,13 +34,15 @@ pub struct RenderArgs {
     /// Image height (overrides the scene).
     #[arg(long)]
     height: Option<u32>,
-    /// Samples per pixel along each axis: N gives NxN stratified samples.
+    /// Samples per pixel along each axis (not in all): N gives NxN stratified samples, so
+    /// --spp 4 traces 16 camera rays per pixel; --samples gives a total instead.
     #[arg(long)]
     spp: Option<u32>,
     /// Maximum reflection/refraction depth.
     #[arg(long)]
     max_depth: Option<u32>,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default, and 0: one per core); more than 4 per core are capped, with a
+    /// warning.
     #[arg(long)]
     threads: Option<usize>,
     /// Seed of the sample streams.
@@ -99,14 +102,17 @@ pub struct RenderArgs {
     /// every light, no cutoff (the reference `auto` is bit-identical to at cutoff 0).
     #[arg(long, value_name = "MODE", default_value = "auto")]
     effects: lumis::effects::EffectMode,
+    #[command(flatten)]
+    overrides: OverrideArgs,
 }
 
 /// Loads, overrides the settings from the flags, builds, renders, exposes and writes.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let mut times = PhaseTimes::default();
     let t = Instant::now();
+    let defines = args.overrides.defines();
     let mut scene = match &args.scene {
-        Some(path) => lumis::formats::load_with(
+        Some(path) => lumis::formats::load_with_overrides(
             path,
             &lumis::formats::LoadOptions {
                 scene: args.gltf_scene,
@@ -114,6 +120,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 up: args.up.map(UpAxis::from).unwrap_or_default(),
                 auto_camera: args.auto_camera,
             },
+            defines,
         )?,
         None if args.gltf_scene.is_some()
             || args.camera.is_some()
@@ -122,7 +129,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         {
             bail!("--gltf-scene, --camera, --up and --auto-camera need a model file")
         }
-        None => lumis::formats::default_scene().context("loading the built-in default scene")?,
+        None => lumis::formats::default_scene_with(defines)
+            .context("loading the built-in default scene")?,
     };
     if !args.quiet {
         for w in scene.warnings() {
@@ -137,6 +145,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     st.display = args.display.map_or(st.display, DisplayTransform::from);
     args.accuracy.apply(st)?;
     args.cutoff.apply(st)?;
+    args.overrides.apply(st, args.quiet)?;
     // The same limits as every scene file's, checked before any work starts.
     st.validate()
         .context("the render settings after the command-line overrides")?;
@@ -161,7 +170,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let _ = on_ctrl_c(cancel.clone());
     let opts = RenderOptions {
         seed: args.seed,
-        threads: args.threads,
+        threads: super::threads::resolve(args.threads, args.quiet),
         progress: show_progress,
         // Only EXR has depth, normal and id layers: a PNG-only render traces no rays for them.
         aov_layers: outputs.iter().any(|p| has_extension(p, "exr")),
@@ -197,13 +206,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         partial: rendered.is_partial(),
     };
     for path in &outputs {
-        write_by_extension(
+        args.overrides.write_image(
             path,
             &rendered.film,
             scene.camera(),
             &meta,
-            // Already applied to the film, for the EXR too.
-            0.0,
             scene.settings().display,
         )?;
     }

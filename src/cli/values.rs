@@ -1,5 +1,5 @@
 //! The value sets of the flags that name a library choice (`--accel`, `--traversal`,
-//! `--precision`, `--offset`, `--up`, `--display`), as clap enums mapped onto the library's own.
+//! `--precision`, `--offset`, `--up`, `--display`, `--tonemap`), as clap enums mapped onto the library's own.
 //!
 //! The library stays free of clap; the variants' doc comments here are the `--help` text of
 //! each value, and the spellings clap derives from the variant names are the accepted values.
@@ -7,7 +7,7 @@
 use clap::ValueEnum;
 use lumis::accel::AccelKind;
 use lumis::geometry::Precision;
-use lumis::output::DisplayTransform;
+use lumis::output::{DisplayTransform, Tonemap};
 use lumis::scene::UpAxis;
 
 /// `--accel`.
@@ -109,6 +109,25 @@ impl From<DisplayArg> for DisplayTransform {
     }
 }
 
+/// `--tonemap`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum TonemapArg {
+    /// No curve: values above 1 clip.
+    #[default]
+    None,
+    /// Narkowicz's fit of the ACES filmic curve: a soft shoulder up to 1 at 7.24 x white.
+    Filmic,
+}
+
+impl From<TonemapArg> for Tonemap {
+    fn from(t: TonemapArg) -> Self {
+        match t {
+            TonemapArg::None => Tonemap::None,
+            TonemapArg::Filmic => Tonemap::Filmic,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -174,5 +193,12 @@ mod tests {
                 .collect::<Vec<_>>(),
             DisplayTransform::ALL
         );
+        let tonemaps: Vec<Tonemap> = TonemapArg::value_variants()
+            .iter()
+            .map(|&t| t.into())
+            .collect();
+        assert_eq!(tonemaps, Tonemap::ALL);
+        let names_of: Vec<&str> = Tonemap::ALL.iter().map(|t| t.name()).collect();
+        assert_eq!(names::<TonemapArg>(), names_of);
     }
 }

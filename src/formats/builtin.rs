@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::SceneError;
-use super::toml::load_toml_str;
+use super::toml::{Override, load_toml_str_with};
 use crate::scene::Scene;
 
 /// Where the embedded default scene claims to live (in messages and for resolving its assets).
@@ -19,7 +19,12 @@ const ASSETS: &[(&str, &[u8])] = &[("knot.obj", include_bytes!("../../assets/kno
 /// The scene `lumis` renders when given no file: `scenes/default.toml` with its meshes, all
 /// embedded at compile time. An error here is a bug in the shipped scene (a test guards it).
 pub fn default_scene() -> Result<Scene, SceneError> {
-    load_toml_str(DEFAULT_SCENE, Path::new(DEFAULT_SCENE_PATH), &|path| {
+    default_scene_with(&[])
+}
+
+/// [`default_scene`] with `-D` overrides: it is a TOML scene, so every key can be overridden.
+pub fn default_scene_with(overrides: &[Override]) -> Result<Scene, SceneError> {
+    let resolver = |path: &Path| {
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         ASSETS
             .iter()
@@ -31,5 +36,11 @@ pub fn default_scene() -> Result<Scene, SceneError> {
                     "not one of the assets embedded in the binary",
                 )
             })
-    })
+    };
+    load_toml_str_with(
+        DEFAULT_SCENE,
+        Path::new(DEFAULT_SCENE_PATH),
+        &resolver,
+        overrides,
+    )
 }

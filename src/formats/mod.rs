@@ -19,9 +19,10 @@ mod resolver;
 pub mod scn;
 pub mod toml;
 
-pub use builtin::default_scene;
+pub use builtin::{default_scene, default_scene_with};
 pub use error::SceneError;
 pub use resolver::{Resolver, read_file, read_file_bytes, read_text};
+pub use toml::Override;
 
 use std::path::Path;
 
@@ -54,7 +55,30 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// [`load`] with the choices model files offer: scene and camera (glTF only), up axis and
 /// automatic camera (glTF and OBJ); asking for them in any other format is an error.
 pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
-    let scene = load_by_extension(path, options)?;
+    load_with_overrides(path, options, &[])
+}
+
+/// [`load_with`] plus `-D` overrides, applied in order: in a TOML scene to the document
+/// before it is checked (any key of the schema); in every other format only `render.*` keys,
+/// through the same `[render]` schema, over the settings the file set (other keys are refused
+/// before the file is read).
+pub fn load_with_overrides(
+    path: &Path,
+    options: &LoadOptions,
+    overrides: &[Override],
+) -> Result<Scene, SceneError> {
+    let is_toml = extension(path).as_deref() == Some("toml");
+    if !is_toml && let Some(o) = overrides.iter().find(|o| !o.is_render()) {
+        return Err(toml::refuse_non_render(path, o));
+    }
+    let mut scene = if is_toml && *options == LoadOptions::default() {
+        toml::load_toml_file_with(path, overrides)?
+    } else {
+        load_by_extension(path, options)?
+    };
+    if !is_toml {
+        toml::apply_render_overrides(scene.settings_mut(), overrides, path)?;
+    }
     // Every format's settings meet the same limits (TOML and .scn also check them where they
     // can name the element or line).
     scene
@@ -66,11 +90,7 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError
 
 /// The loader of `path`'s format.
 fn load_by_extension(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
+    match extension(path).as_deref() {
         Some("gltf" | "glb") => gltf::load_gltf_file(path, options),
         Some("obj") if options.scene.is_none() && options.camera.is_none() => {
             obj::load_obj_scene(path, options)
@@ -87,4 +107,11 @@ fn load_by_extension(path: &Path, options: &LoadOptions) -> Result<Scene, SceneE
             path: path.to_path_buf(),
         }),
     }
+}
+
+/// The file extension, lower case.
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
 }

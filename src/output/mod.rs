@@ -16,6 +16,7 @@
 mod atomic;
 mod display;
 mod exposure;
+mod tonemap;
 
 // Public for the binary's other result files (`lumis hits` writes .npy arrays through it).
 pub use self::atomic::write_atomically;
@@ -35,7 +36,8 @@ pub use self::exr::{
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
     imath_m44f, write_exr,
 };
-pub use self::png::write_png;
+pub use self::png::{write_png, write_png_with};
+pub use self::tonemap::Tonemap;
 
 /// Writes `text` to `path` atomically (a report beside the images, e.g. `--stats-json`).
 pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {

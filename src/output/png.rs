@@ -6,8 +6,8 @@ use std::path::Path;
 use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
 
-use super::DisplayTransform;
 use super::atomic::write_atomically;
+use super::{DisplayTransform, Tonemap};
 use super::{OutputError, check_not_empty};
 use crate::film::Film;
 
@@ -23,6 +23,18 @@ pub fn write_png(
     exposure_stops: f32,
     display: DisplayTransform,
 ) -> Result<(), OutputError> {
+    write_png_with(path, film, exposure_stops, display, Tonemap::None)
+}
+
+/// [`write_png`] with a tone curve between the exposure and the display transform
+/// (`--tonemap`); only the PNG is tone mapped, the EXR stays linear.
+pub fn write_png_with(
+    path: &Path,
+    film: &Film,
+    exposure_stops: f32,
+    display: DisplayTransform,
+    tonemap: Tonemap,
+) -> Result<(), OutputError> {
     check_not_empty(path, film)?;
     if !exposure_stops.is_finite() {
         return Err(OutputError::BadExposure {
@@ -35,7 +47,7 @@ pub fn write_png(
         .rgba()
         .iter()
         .flat_map(|p| (p.truncate() * scale).to_array())
-        .map(|v| display.encode8(v))
+        .map(|v| display.encode8(tonemap.apply(v)))
         .collect();
 
     write_atomically(path, |w| {

@@ -38,7 +38,8 @@ pub struct HitsArgs {
     /// on the far side (xyz); inf for misses.
     #[arg(long)]
     spawn_out: Option<PathBuf>,
-    /// Worker threads (default: all cores); the output is the same for any count.
+    /// Worker threads (default, and 0: one per core; more than 4 per core are capped); the
+    /// output is the same for any count.
     #[arg(long)]
     threads: Option<usize>,
     /// Also write every triangle as float32 .npy of shape (M, 10): primitive id, then the
@@ -85,7 +86,7 @@ pub fn run(args: &HitsArgs) -> Result<()> {
         }
         (world, build_s, hits, trace_s)
     };
-    let (world, build_s, hits, trace_s) = match args.threads {
+    let (world, build_s, hits, trace_s) = match super::threads::resolve(args.threads, false) {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()

@@ -2,7 +2,12 @@
 //! [`schema`], then checking every value and reference while building the [`Scene`].
 
 mod mesh;
+mod overrides;
+mod render;
 mod schema;
+
+pub(crate) use overrides::refuse_non_render;
+pub use overrides::{Override, apply_render_overrides};
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -19,8 +24,13 @@ use schema::{CameraDoc, LightDoc, LightKind, MaterialDoc, RenderDoc, SceneDoc};
 
 /// Loads the TOML scene at `path`; referenced files are read from disk relative to its folder.
 pub fn load_toml_file(path: &Path) -> Result<Scene, SceneError> {
+    load_toml_file_with(path, &[])
+}
+
+/// [`load_toml_file`] with `-D` overrides applied to the document before it is checked.
+pub fn load_toml_file_with(path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
     let text = read_text(path)?;
-    load_toml_str(&text, path, &read_file_bytes)
+    load_toml_str_with(&text, path, &read_file_bytes, overrides)
 }
 
 /// Loads a TOML scene from `text`. `origin` is the scene's path: it names the file in errors and
@@ -30,10 +40,25 @@ pub fn load_toml_str(
     origin: &Path,
     resolver: Resolver<'_>,
 ) -> Result<Scene, SceneError> {
-    let doc: SceneDoc = ::toml::from_str(text).map_err(|e| {
+    load_toml_str_with(text, origin, resolver, &[])
+}
+
+/// [`load_toml_str`] with `overrides` applied in order (a later one wins) to the document
+/// before any value is checked, so an override meets the file's schema and checks.
+pub fn load_toml_str_with(
+    text: &str,
+    origin: &Path,
+    resolver: Resolver<'_>,
+    overrides: &[Override],
+) -> Result<Scene, SceneError> {
+    // The file on its own first, so its errors keep their line numbers.
+    let mut doc: SceneDoc = ::toml::from_str(text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
         SceneError::parse_at(origin, text, offset, e.message())
     })?;
+    if !overrides.is_empty() {
+        doc = overrides::apply_to_text(text, origin, overrides)?;
+    }
     Loader {
         origin,
         resolver,
@@ -114,66 +139,17 @@ impl Loader<'_> {
 
     /// Checks that a colour is finite and non-negative.
     fn color(&self, element: &str, field: &str, c: [f32; 3]) -> Result<Vec3, SceneError> {
-        self.finite(element, field, &c)?;
-        if c.iter().any(|x| *x < 0.0) {
-            return Err(self.err(element, format!("{field} {c:?} must be >= 0")));
-        }
-        Ok(Vec3::from(c))
+        render::color(field, c).map_err(|m| self.err(element, m))
     }
 
     fn render(&mut self, r: &RenderDoc) -> Result<(), SceneError> {
-        let e = "render";
-        let d = crate::scene::Settings::default();
-        let settings = crate::scene::Settings {
-            width: r.width.unwrap_or(d.width),
-            height: r.height.unwrap_or(d.height),
-            spp: r.spp.unwrap_or(d.spp),
-            max_depth: r.max_depth.unwrap_or(d.max_depth),
-            ambient: r
-                .ambient
-                .map_or(Ok(d.ambient), |c| self.color(e, "ambient", c))?,
-            background: r
-                .background
-                .map_or(Ok(d.background), |c| self.color(e, "background", c))?,
-            exposure: r.exposure.unwrap_or(d.exposure),
-            precision: match &r.precision {
-                Some(p) => p.parse().map_err(|m| self.err(e, m))?,
-                None => d.precision,
-            },
-            offset: self.offset(e, r)?,
-            cutoff: match r.cutoff {
-                Some(c) => crate::geometry::check_cutoff(c).map_err(|m| self.err(e, m))?,
-                None => d.cutoff,
-            },
-            display: match &r.display {
-                Some(name) => name.parse().map_err(|m| self.err(e, m))?,
-                None => d.display,
-            },
-            ..d
-        };
+        let settings = render::merge(&crate::scene::Settings::default(), r)
+            .map_err(|m| self.err("render", m))?;
         settings
             .validate()
-            .map_err(|m| self.err(e, m.to_string()))?;
+            .map_err(|m| self.err("render", m.to_string()))?;
         *self.builder.settings_mut() = settings;
         Ok(())
-    }
-
-    /// `offset` and `epsilon`: an epsilon is only meaningful with `offset = "epsilon"`.
-    fn offset(&self, e: &str, r: &RenderDoc) -> Result<crate::geometry::Offset, SceneError> {
-        let epsilon = match r.epsilon {
-            Some(x) => crate::geometry::check_epsilon(x).map_err(|m| self.err(e, m))?,
-            None => crate::geometry::DEFAULT_EPSILON,
-        };
-        let offset = match &r.offset {
-            Some(name) => {
-                crate::geometry::Offset::from_name(name, epsilon).map_err(|m| self.err(e, m))?
-            }
-            None => crate::geometry::Offset::default(),
-        };
-        if r.epsilon.is_some() && !matches!(offset, crate::geometry::Offset::Epsilon(_)) {
-            return Err(self.err(e, "epsilon is given but offset is not \"epsilon\""));
-        }
-        Ok(offset)
     }
 
     fn material(&self, name: &str, m: &MaterialDoc) -> Result<Material, SceneError> {

@@ -34,7 +34,7 @@ pub struct AccuracyArgs {
     /// Timed rounds (the outer loop; each renders every point once); the median is kept.
     #[arg(long, default_value_t = 3)]
     rounds: usize,
-    /// Render threads (default: all cores).
+    /// Render threads (default, and 0: one per core; more than 4 per core are capped).
     #[arg(long)]
     threads: Option<usize>,
     /// Write every scene's rows here as CSV.
@@ -62,7 +62,7 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
         width: args.width,
         height: args.height,
         rounds: args.rounds,
-        threads: args.threads,
+        threads: crate::cli::threads::resolve(args.threads, false),
     };
     let start = std::time::Instant::now();
     let mut rows = Vec::new();

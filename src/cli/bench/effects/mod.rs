@@ -29,7 +29,7 @@ pub struct EffectsArgs {
     /// Timed rounds per mode (interleaved); the median is reported.
     #[arg(long, default_value_t = 3)]
     rounds: usize,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default, and 0: one per core; more than 4 per core are capped).
     #[arg(long)]
     threads: Option<usize>,
     /// Measure a PNG-only render (no AOV rays) instead of an EXR one.
@@ -55,13 +55,13 @@ pub fn run(args: &EffectsArgs) -> Result<()> {
             scenes.push((file_name(f), scene));
         }
     }
+    let threads = crate::cli::threads::resolve(args.threads, false);
     let mut rows = Vec::new();
     for (name, mut scene) in scenes {
         let st = scene.settings_mut();
         (st.width, st.height) = (args.width, args.height);
-        let row =
-            measure::measure_effects(&scene, &name, args.rounds, args.threads, !args.png_only)
-                .with_context(|| name.clone())?;
+        let row = measure::measure_effects(&scene, &name, args.rounds, threads, !args.png_only)
+            .with_context(|| name.clone())?;
         eprintln!(
             "{name:<24} default {:>8.3} s  all {:>8.3} s  ({:.2}x)",
             row.auto_seconds,
