@@ -7,12 +7,10 @@ use std::path::Path;
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-use exr::prelude::{
-    AnyChannels, AttributeValue, FlatSamples, Image, Layers, ReadChannels, ReadLayers, Text, Vec2,
-    read,
-};
+use exr::prelude::{AttributeValue, Text, Vec2};
 
-type FlatImage = Image<Layers<AnyChannels<FlatSamples>>>;
+mod common;
+use common::exr::{channel, read_exr};
 
 fn lumis(dir: &Path) -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_lumis"));
@@ -26,26 +24,6 @@ fn ok(out: Output) {
         "stderr: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-}
-
-fn read_exr(path: &Path) -> FlatImage {
-    read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .all_layers()
-        .all_attributes()
-        .from_file(path)
-        .unwrap()
-}
-
-fn f32s(image: &FlatImage, name: &str) -> Vec<f32> {
-    let layer = &image.layer_data[0];
-    let c = layer.channel_data.list.iter().find(|c| c.name == *name);
-    match &c.unwrap().sample_data {
-        FlatSamples::F32(v) => v.clone(),
-        other => panic!("{name} is not FLOAT: {other:?}"),
-    }
 }
 
 const SIZE: [&str; 8] = [
@@ -72,14 +50,14 @@ fn crop_and_pixel_bounds_write_a_data_window_of_the_full_render() {
         .output()
         .unwrap());
     let full = read_exr(&dir.path().join("full.exr"));
-    let full_r = f32s(&full, "R");
+    let full_r = channel(&full, "R");
     for name in ["crop.exr", "bounds.exr"] {
         let part = read_exr(&dir.path().join(name));
         let layer = &part.layer_data[0];
         assert_eq!(layer.size, Vec2(18, 21), "{name}");
         assert_eq!(layer.attributes.layer_position, Vec2(12, 3), "{name}");
         assert_eq!(part.attributes.display_window.size, Vec2(40, 24), "{name}");
-        let r = f32s(&part, "R");
+        let r = channel(&part, "R");
         for y in 0..21 {
             for x in 0..18 {
                 let want = full_r[(y + 3) * 40 + x + 12];
@@ -129,8 +107,8 @@ fn z_miss_replaces_infinite_depth() {
         .output()
         .unwrap());
     let (inf, big) = (
-        f32s(&read_exr(&dir.path().join("inf.exr")), "Z"),
-        f32s(&read_exr(&dir.path().join("big.exr")), "Z"),
+        channel(&read_exr(&dir.path().join("inf.exr")), "Z"),
+        channel(&read_exr(&dir.path().join("big.exr")), "Z"),
     );
     let misses = inf.iter().filter(|z| z.is_infinite()).count();
     assert!(misses > 0, "the default scene shows background at the top");
@@ -179,7 +157,7 @@ fn ctrl_c_writes_the_finished_tiles_as_a_partial_exr_and_exits_130() {
         .get(&Text::from("lumis/partial"))
         .cloned();
     assert_eq!(partial, Some(AttributeValue::I32(1)));
-    let a = f32s(&image, "A");
+    let a = channel(&image, "A");
     let done = a.iter().filter(|&&v| v > 0.0).count();
     assert!(done > 0, "some tiles were finished");
     assert!(done < a.len(), "some tiles were not: their alpha is 0");

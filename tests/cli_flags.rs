@@ -5,12 +5,11 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use exr::prelude::{
-    AnyChannels, AttributeValue, FlatSamples, Image, Layers, ReadChannels, ReadLayers, Text, read,
-};
+use exr::prelude::{AttributeValue, Text};
 use lumis::output::{Tonemap, linear_to_srgb8};
 
-type FlatImage = Image<Layers<AnyChannels<FlatSamples>>>;
+mod common;
+use common::exr::{FlatImage, channel, read_exr};
 
 /// A sphere filling the middle of a 16x16 image on a black background, lit by ambient only:
 /// corners miss, the centre hits material `m` of sphere `ball`.
@@ -71,27 +70,6 @@ fn ball(dir: &Path) -> String {
     let path = dir.join("ball.toml");
     std::fs::write(&path, BALL).unwrap();
     path.to_string_lossy().into_owned()
-}
-
-fn read_exr(path: &Path) -> FlatImage {
-    read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .all_layers()
-        .all_attributes()
-        .from_file(path)
-        .unwrap()
-}
-
-/// Channel `name` of a `--float` EXR, row-major.
-fn channel(image: &FlatImage, name: &str) -> Vec<f32> {
-    let layer = &image.layer_data[0];
-    let c = layer.channel_data.list.iter().find(|c| c.name == *name);
-    match &c.unwrap_or_else(|| panic!("no channel {name}")).sample_data {
-        FlatSamples::F32(v) => v.clone(),
-        other => panic!("{name} is not FLOAT: {other:?}"),
-    }
 }
 
 /// The RGB of pixel `i` of a `--float` EXR.

@@ -4,11 +4,10 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use exr::prelude::{
-    AnyChannels, AttributeValue, FlatSamples, Image, Layers, ReadChannels, ReadLayers, Text, read,
-};
+use exr::prelude::{AttributeValue, Text};
 
-type FlatImage = Image<Layers<AnyChannels<FlatSamples>>>;
+mod common;
+use common::exr::{FlatImage, channel, read_exr};
 
 fn asset(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -32,26 +31,6 @@ fn render(dir: &Path, scene: &Path, out: &str, extra: &[&str]) -> Output {
         String::from_utf8_lossy(&out.stderr)
     );
     out
-}
-
-fn read_exr(path: &Path) -> FlatImage {
-    read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .all_layers()
-        .all_attributes()
-        .from_file(path)
-        .unwrap()
-}
-
-fn channel(image: &FlatImage, name: &str) -> Vec<f32> {
-    let layer = &image.layer_data[0];
-    let c = layer.channel_data.list.iter().find(|c| c.name == *name);
-    match &c.unwrap_or_else(|| panic!("no channel {name}")).sample_data {
-        FlatSamples::F32(v) => v.clone(),
-        other => panic!("{name} is not FLOAT: {other:?}"),
-    }
 }
 
 fn exposure_attr(image: &FlatImage) -> Option<AttributeValue> {

@@ -5,10 +5,7 @@
 use std::path::Path;
 
 use exr::meta::attribute::Chromaticities;
-use exr::prelude::{
-    AnyChannels, AttributeValue, FlatSamples, Image, Layers, ReadChannels, ReadLayers, Text, Vec2,
-    read,
-};
+use exr::prelude::{AttributeValue, Text, Vec2};
 use lumis::accel::{AccelKind, BuildOptions};
 use lumis::camera::{Camera, Lens};
 use lumis::film::PixelWindow;
@@ -19,27 +16,8 @@ use lumis::output::{
 use lumis::render::{CancelFlag, RenderOptions, Rendered, render};
 use lumis::scene::World;
 
-type FlatImage = Image<Layers<AnyChannels<FlatSamples>>>;
-
-fn read_exr(path: &Path) -> FlatImage {
-    read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .all_layers()
-        .all_attributes()
-        .from_file(path)
-        .unwrap()
-}
-
-fn f32s(image: &FlatImage, name: &str) -> Vec<f32> {
-    let layer = &image.layer_data[0];
-    let c = layer.channel_data.list.iter().find(|c| c.name == *name);
-    match &c.unwrap_or_else(|| panic!("no channel {name}")).sample_data {
-        FlatSamples::F32(v) => v.clone(),
-        other => panic!("{name} is not FLOAT: {other:?}"),
-    }
-}
+mod common;
+use common::exr::{FlatImage, channel, read_exr};
 
 fn attr(image: &FlatImage, name: &str) -> Option<AttributeValue> {
     image.layer_data[0]
@@ -119,7 +97,7 @@ fn a_window_renders_exactly_those_pixels_of_the_full_image() {
     );
     assert_eq!(image.attributes.display_window.size, Vec2(45, 30));
     assert_eq!(image.attributes.display_window.position, Vec2(0, 0));
-    let r = f32s(&image, "R");
+    let r = channel(&image, "R");
     assert_eq!(r[0].to_bits(), full.film.pixel(7, 3).x.to_bits());
     // The camera matrices are the full image's, so positions project to the same pixels.
     let full_image = write(
@@ -219,7 +197,7 @@ fn misses_get_the_chosen_depth() {
             z_miss,
             ..ExrMetadata::default()
         };
-        let z = f32s(&write(dir.path(), &r, w.scene().camera(), &meta), "Z");
+        let z = channel(&write(dir.path(), &r, w.scene().camera(), &meta), "Z");
         for (i, a) in r.film.aov().iter().enumerate() {
             let want = if a.object_id < 0 { z_miss } else { a.depth };
             assert_eq!(z[i].to_bits(), want.to_bits(), "pixel {i}");
@@ -247,5 +225,5 @@ fn a_cancelled_render_keeps_no_tile_and_says_partial() {
     };
     let image = write(dir.path(), &r, w.scene().camera(), &meta);
     assert_eq!(attr(&image, ATTR_PARTIAL), Some(AttributeValue::I32(1)));
-    assert!(f32s(&image, "A").iter().all(|&a| a == 0.0));
+    assert!(channel(&image, "A").iter().all(|&a| a == 0.0));
 }

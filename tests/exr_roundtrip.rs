@@ -3,10 +3,7 @@
 
 use std::path::Path;
 
-use exr::prelude::{
-    AnyChannels, AttributeValue, Blocks, Compression, FlatSamples, Image, Layers, ReadChannels,
-    ReadLayers, Text, read,
-};
+use exr::prelude::{AttributeValue, Blocks, Compression, FlatSamples, Text};
 use lumis::camera::Camera;
 use lumis::film::{Film, PixelAov};
 use lumis::math::{Vec2, Vec3, Vec4};
@@ -14,6 +11,9 @@ use lumis::output::{
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, DisplayTransform, ExrMetadata,
     OutputError, write_by_extension, write_exr, write_png,
 };
+
+mod common;
+use common::exr::{FlatImage, read_exr};
 
 const W: u32 = 7;
 const H: u32 = 5;
@@ -65,19 +65,6 @@ fn meta(float_rgba: bool) -> ExrMetadata {
         render_seconds: Some(2.75),
         ..ExrMetadata::default()
     }
-}
-
-type FlatImage = Image<Layers<AnyChannels<FlatSamples>>>;
-
-fn read_exr(path: &Path) -> FlatImage {
-    read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .all_layers()
-        .all_attributes()
-        .from_file(path)
-        .unwrap()
 }
 
 fn samples<'a>(image: &'a FlatImage, name: &str) -> &'a FlatSamples {
