@@ -225,11 +225,9 @@ impl Pass<'_> {
     /// The pixels of the tile at `(x0, y0)` inside the window.
     fn tile(&self, x0: u32, y0: u32) -> TileResult {
         let w = self.window;
+        // (x0, y0) is on the tile grid: the tile ends a TILE later, clipped like its start.
+        let (x1, y1) = ((x0 + TILE).min(w.x1), (y0 + TILE).min(w.y1));
         let (x0, y0) = (x0.max(w.x0), y0.max(w.y0));
-        let (x1, y1) = (
-            (x0 / TILE * TILE + TILE).min(w.x1),
-            (y0 / TILE * TILE + TILE).min(w.y1),
-        );
         let mut counts = RayCounts::default();
         let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
         for y in y0..y1 {
