@@ -8,6 +8,7 @@ pub mod accuracy;
 pub mod bench;
 pub mod hits;
 pub mod info;
+pub mod passes;
 pub mod render;
 pub mod stats;
 pub mod values;

@@ -3,6 +3,7 @@
 
 use super::accel::AccelArgs;
 use super::accuracy::{AccuracyArgs, CutoffArgs};
+use super::passes::PassArgs;
 use super::stats::{PhaseTimes, summary, summary_json};
 use super::values::{DisplayArg, UpArg};
 use anyhow::{Context, Result, bail};
@@ -72,6 +73,8 @@ pub struct RenderArgs {
     /// Write 32-bit float RGBA to EXR instead of half.
     #[arg(long)]
     float: bool,
+    #[command(flatten)]
+    passes: PassArgs,
     /// PNG encoding: the sRGB curve, or clamp (value x 255, no curve, as the paper's program).
     /// Default: the scene's `display`, else srgb (clamp for .scn scenes). EXR stays linear.
     #[arg(long, value_enum)]
@@ -147,6 +150,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let t = Instant::now();
     let show_progress = !args.quiet && std::io::stderr().is_terminal();
+    let writes_exr = outputs.iter().any(|p| has_extension(p, "exr"));
     let opts = RenderOptions {
         seed: args.seed,
         threads: args.threads,
@@ -154,6 +158,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // Only EXR has depth, normal and id layers: a PNG-only render traces no rays for them.
         aov_layers: outputs.iter().any(|p| has_extension(p, "exr")),
         effects: args.effects,
+        // Cryptomatte layers are EXR layers: a PNG-only render makes none.
+        cryptomatte: args.passes.cryptomatte()?.filter(|_| writes_exr),
+        transparent: args.passes.transparent(),
     };
     let mut rendered = render(&world, &opts)?;
     let scene = world.scene();
@@ -178,6 +185,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         spp: scene.settings().spp.pow(2),
         render_seconds: times.render.as_secs_f32(),
         exposure,
+        aov_layers: args.passes.aov_layers(),
+        layout: args.passes.layout(),
     };
     for path in &outputs {
         write_by_extension(

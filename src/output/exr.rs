@@ -8,6 +8,10 @@
 //! | `N.X`, `N.Y`, `N.Z`     | FLOAT         | world-space unit shading normal; 0 where missed    |
 //! | `id.prim`, `id.object`  | FLOAT         | primitive / object index as a float; -1 where missed |
 //!
+//! Optional layers: `albedo`, `P`, `uv` ([`super::aov_layers`], `--aov`), the Cryptomatte
+//! layers and their metadata ([`super::cryptomatte`], `--cryptomatte`); `--layout blender`
+//! renames every channel to Blender's convention ([`super::layout`]).
+//!
 //! The header carries the camera as the standard `worldToCamera` and `worldToNDC` M44f
 //! attributes, so a compositor can project world positions into the image.
 
@@ -18,7 +22,10 @@ use ::exr::prelude::{
     Layer, LayerAttributes, LineOrder, SmallVec, Text, Vec2, WritableImage, f16,
 };
 
+use super::aov_layers::{self, AovLayers};
 use super::atomic::write_atomically;
+use super::cryptomatte;
+use super::layout::ChannelLayout;
 use super::{OutputError, check_not_empty};
 use crate::camera::Camera;
 use crate::film::Film;
@@ -48,6 +55,10 @@ pub struct ExrMetadata {
     /// The exposure in stops already applied to the film's colour ([`crate::film::Film::expose`]);
     /// recorded, not applied, here.
     pub exposure: f32,
+    /// The optional AOV layers to write (albedo, position, uv).
+    pub aov_layers: AovLayers,
+    /// The channel naming convention.
+    pub layout: ChannelLayout,
 }
 
 /// Writes `film` to `path` as OpenEXR (channels and attributes in the module docs), atomically:
@@ -102,7 +113,7 @@ fn build_layer(
     let float = |values: Vec<f32>| FlatSamples::F32(values);
     // Ids are floats because compositors handle FLOAT everywhere and -1 must survive; f32 is
     // exact for indices up to 2^24.
-    let channels = vec![
+    let mut channels = vec![
         channel("R", beauty(|p| p.x)),
         channel("G", beauty(|p| p.y)),
         channel("B", beauty(|p| p.z)),
@@ -120,6 +131,17 @@ fn build_layer(
             float(aov.iter().map(|a| a.object_id as f32).collect()),
         ),
     ];
+    for (name, values) in aov_layers::channels(film, meta.aov_layers) {
+        channels.push(channel(name, float(values)));
+    }
+    for layer in film.crypto() {
+        for (name, values) in cryptomatte::channels(layer, meta.layout) {
+            channels.push(channel(&name, float(values)));
+        }
+    }
+    for c in &mut channels {
+        c.name = Text::from(meta.layout.channel(&c.name.to_string()).as_str());
+    }
 
     let mut attributes = LayerAttributes {
         world_to_camera: Some(imath_m44f(camera.world_to_camera())),
@@ -138,6 +160,11 @@ fn build_layer(
         (ATTR_EXPOSURE, AttributeValue::F32(meta.exposure)),
     ] {
         attributes.other.insert(Text::from(name), value);
+    }
+    for layer in film.crypto() {
+        attributes
+            .other
+            .extend(cryptomatte::attributes(layer, meta.layout));
     }
 
     let encoding = Encoding {

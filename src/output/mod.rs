@@ -13,13 +13,16 @@
 //! display = "srgb"      # PNG only: "srgb" transfer curve or "clamp" (value x 255)
 //! ```
 
+mod aov_layers;
 mod atomic;
+mod cryptomatte;
 mod display;
 mod exposure;
 
 // Public for the binary's other result files (`lumis hits` writes .npy arrays through it).
 pub use self::atomic::write_atomically;
 mod exr;
+mod layout;
 mod png;
 
 use std::path::{Path, PathBuf};
@@ -27,12 +30,14 @@ use std::path::{Path, PathBuf};
 use crate::camera::Camera;
 use crate::film::Film;
 
+pub use self::aov_layers::AovLayers;
 pub use self::display::{DisplayTransform, linear_to_srgb8};
 pub use self::exposure::{AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET, auto_exposure};
 pub use self::exr::{
     ATTR_EXPOSURE, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ExrMetadata, SOFTWARE, imath_m44f,
     write_exr,
 };
+pub use self::layout::ChannelLayout;
 pub use self::png::write_png;
 
 /// Writes `text` to `path` atomically (a report beside the images, e.g. `--stats-json`).
