@@ -1,6 +1,7 @@
 //! The image being rendered: linear premultiplied RGBA plus the AOV layers written to EXR.
 
-use crate::math::{Vec3, Vec4};
+use crate::cryptomatte::CryptoLayer;
+use crate::math::{Vec2, Vec3, Vec4};
 
 /// What the centre ray of one pixel saw, for the depth, normal and id layers.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -13,6 +14,14 @@ pub struct PixelAov {
     pub prim_id: i32,
     /// Object index, -1 where missed.
     pub object_id: i32,
+    /// Diffuse albedo `kd` of the material at the hit (textures evaluated, before lighting);
+    /// zero where missed.
+    pub albedo: Vec3,
+    /// World-space hit point; zero where missed.
+    pub position: Vec3,
+    /// Surface texture coordinates at the hit (a mesh's first set, a sphere's longitude and
+    /// latitude); zero where missed.
+    pub uv: Vec2,
 }
 
 impl PixelAov {
@@ -22,6 +31,9 @@ impl PixelAov {
         normal: Vec3::ZERO,
         prim_id: -1,
         object_id: -1,
+        albedo: Vec3::ZERO,
+        position: Vec3::ZERO,
+        uv: Vec2::ZERO,
     };
 }
 
@@ -104,6 +116,7 @@ pub struct Film {
     full: (u32, u32),
     rgba: Vec<Vec4>,
     aov: Vec<PixelAov>,
+    crypto: Vec<CryptoLayer>,
 }
 
 impl Film {
@@ -123,6 +136,7 @@ impl Film {
             full: (full_width, full_height),
             rgba: vec![Vec4::ZERO; n],
             aov: vec![PixelAov::MISS; n],
+            crypto: Vec::new(),
         }
     }
 
@@ -174,6 +188,28 @@ impl Film {
     /// AOV at pixel `(x, y)`.
     pub fn pixel_aov(&self, x: u32, y: u32) -> PixelAov {
         self.aov[(y * self.width + x) as usize]
+    }
+
+    /// The Cryptomatte layers, in the order they are written (none unless the render asked
+    /// for them).
+    pub fn crypto(&self) -> &[CryptoLayer] {
+        &self.crypto
+    }
+
+    /// Mutable Cryptomatte layers, for the renderer to fill.
+    pub fn crypto_mut(&mut self) -> &mut [CryptoLayer] {
+        &mut self.crypto
+    }
+
+    /// Adds a Cryptomatte layer; it must have been made for this film's pixel count.
+    pub fn add_crypto(&mut self, layer: CryptoLayer) {
+        assert_eq!(
+            layer.ranks().len(),
+            layer.levels() * self.rgba.len(),
+            "Cryptomatte layer {} made for another film size",
+            layer.name()
+        );
+        self.crypto.push(layer);
     }
 
     /// Stores one finished pixel.

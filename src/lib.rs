@@ -6,6 +6,7 @@
 
 pub mod accel;
 pub mod camera;
+pub mod cryptomatte;
 pub mod effects;
 pub mod film;
 pub mod formats;

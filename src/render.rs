@@ -1,10 +1,12 @@
 //! Drives the integrator over the image: rayon over 16x16 tiles, stratified jittered samples,
 //! a progress bar, and the only place the film is written.
 
+use crate::accel::Hit;
+use crate::cryptomatte::{Mattes, PixelSamples, Rank};
 use crate::effects::{Analysis, EffectMode};
 use crate::film::{Film, PixelAov, PixelWindow};
 use crate::integrator::{RayCounts, Whitted};
-use crate::math::{Vec2, Vec4};
+use crate::math::{Vec2, Vec3, Vec4};
 use crate::rng::SampleRng;
 use crate::scene::{Scene, SettingsError, World};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -34,6 +36,13 @@ pub struct RenderOptions {
     /// Raised to stop early (Ctrl-C): tiles not yet started are skipped, the film keeps the
     /// finished ones and [`Rendered::unfinished_tiles`] counts the rest.
     pub cancel: CancelFlag,
+    /// Cryptomatte `CryptoObject` and `CryptoMaterial` layers with this many ranks per pixel
+    /// (`None`: none; [`crate::cryptomatte::DEFAULT_LEVELS`] is the specification's default).
+    pub cryptomatte: Option<u32>,
+    /// Camera rays that escape add neither the background colour nor alpha: A = 0 and RGB = 0
+    /// where nothing was hit, for compositing over a plate. Reflected and refracted rays still
+    /// see the background.
+    pub transparent: bool,
 }
 
 /// A flag another thread raises to stop a render between tiles.
@@ -71,6 +80,8 @@ impl Default for RenderOptions {
             effects: EffectMode::Auto,
             window: None,
             cancel: CancelFlag::default(),
+            cryptomatte: None,
+            transparent: false,
         }
     }
 }
@@ -117,6 +128,8 @@ struct TileResult {
     y0: u32,
     w: u32,
     pixels: Vec<(Vec4, PixelAov)>,
+    /// Object then material ranks, `levels` per pixel (empty without Cryptomatte).
+    crypto: [Vec<Rank>; 2],
     counts: RayCounts,
 }
 
@@ -140,6 +153,10 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
     let bar = progress_bar(tiles.len() as u64, opts.progress);
     let analysis = Analysis::new(scene, opts.effects, opts.aov_layers);
     let integrator = Whitted::new(world, &analysis);
+    let pixels = window.width() as usize * window.height() as usize;
+    let mut mattes = opts
+        .cryptomatte
+        .map(|levels| Mattes::new(scene, levels, pixels));
     let pass = Pass {
         scene,
         integrator: &integrator,
@@ -147,6 +164,8 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
         lens_rays: analysis.lens_rays,
         aov: analysis.aov.on,
         window,
+        mattes: mattes.as_ref(),
+        transparent: opts.transparent,
     };
     let run = || -> Vec<TileResult> {
         tiles
@@ -174,16 +193,22 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
     let mut counts = RayCounts::default();
     let unfinished_tiles = tiles.len() - results.len();
     let (ox, oy) = film.origin();
+    let film_width = window.width();
     for t in results {
         counts += t.counts;
         for (i, (rgba, aov)) in t.pixels.into_iter().enumerate() {
-            film.set(
-                t.x0 + i as u32 % t.w - ox,
-                t.y0 + i as u32 / t.w - oy,
-                rgba,
-                aov,
-            );
+            let (x, y) = (t.x0 + i as u32 % t.w - ox, t.y0 + i as u32 / t.w - oy);
+            film.set(x, y, rgba, aov);
+            if let Some(m) = &mut mattes {
+                let n = m.levels();
+                let [object, material] = &t.crypto;
+                let at = (y * film_width + x) as usize;
+                m.set_pixel(at, &object[i * n..][..n], &material[i * n..][..n]);
+            }
         }
+    }
+    for layer in mattes.into_iter().flat_map(Mattes::into_layers) {
+        film.add_crypto(layer);
     }
     Ok(Rendered {
         film,
@@ -219,6 +244,10 @@ struct Pass<'a> {
     aov: bool,
     /// The pixels rendered.
     window: PixelWindow,
+    /// The Cryptomatte layers being made, if any (read here only for their ids).
+    mattes: Option<&'a Mattes>,
+    /// Escaping camera rays add nothing (see [`RenderOptions::transparent`]).
+    transparent: bool,
 }
 
 impl Pass<'_> {
@@ -229,10 +258,28 @@ impl Pass<'_> {
         let (x1, y1) = ((x0 + TILE).min(w.x1), (y0 + TILE).min(w.y1));
         let (x0, y0) = (x0.max(w.x0), y0.max(w.y0));
         let mut counts = RayCounts::default();
-        let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-        for y in y0..y1 {
-            for x in x0..x1 {
-                pixels.push(self.pixel(x, y, &mut counts));
+        let n = ((x1 - x0) * (y1 - y0)) as usize;
+        let mut pixels = Vec::with_capacity(n);
+        let levels = self.mattes.map_or(0, Mattes::levels);
+        let mut crypto = [
+            vec![Rank::default(); n * levels],
+            vec![Rank::default(); n * levels],
+        ];
+        let mut samples = PixelSamples::default();
+        for (i, (x, y)) in (y0..y1)
+            .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+            .enumerate()
+        {
+            pixels.push(self.pixel(x, y, &mut samples, &mut counts));
+            if let Some(m) = self.mattes {
+                let st = self.scene.settings();
+                let total = st.spp * st.spp * self.lens_rays;
+                let [object, material] = &mut crypto;
+                let (object, material) = (
+                    &mut object[i * levels..][..levels],
+                    &mut material[i * levels..][..levels],
+                );
+                m.rank(&mut samples, total, object, material);
             }
         }
         TileResult {
@@ -240,14 +287,22 @@ impl Pass<'_> {
             y0,
             w: x1 - x0,
             pixels,
+            crypto,
             counts,
         }
     }
 
     /// `spp x spp` stratified samples (each jittered in its stratum), each traced through
     /// `lens_rays` lens positions, box-filtered; plus one pinhole ray through the pixel centre
-    /// for the AOV layers when they are written.
-    fn pixel(&self, x: u32, y: u32, counts: &mut RayCounts) -> (Vec4, PixelAov) {
+    /// for the AOV layers when they are written. The first-hit object of every camera ray goes
+    /// to `samples` when Cryptomatte layers are made.
+    fn pixel(
+        &self,
+        x: u32,
+        y: u32,
+        samples: &mut PixelSamples,
+        counts: &mut RayCounts,
+    ) -> (Vec4, PixelAov) {
         let st = self.scene.settings();
         let cam = self.scene.camera();
         let n = st.spp;
@@ -261,6 +316,11 @@ impl Pass<'_> {
                 let lens = Vec2::new(rng.next_f32(), rng.next_f32());
                 let ray = cam.ray(film, st.width, st.height, lens);
                 let sample = self.integrator.camera_ray(&ray, counts);
+                match sample.object {
+                    Some(object) if self.mattes.is_some() => samples.add(object),
+                    None if self.transparent => continue,
+                    _ => {}
+                }
                 sum += sample
                     .radiance
                     .extend(if sample.opaque { 1.0 } else { 0.0 });
@@ -294,15 +354,33 @@ fn centre_aov(
         st.height,
     );
     counts.aov += 1;
-    match integrator.world().intersect(&ray, &mut counts.traversal) {
-        None => PixelAov::MISS,
-        // The normal is reported as the surface defines it (outward / winding), not flipped
-        // towards the camera, so it compares directly with other engines' normals.
-        Some(hit) => PixelAov {
-            depth: (hit.surface.p - cam.position()).dot(cam.forward()),
-            normal: hit.surface.ns,
-            prim_id: hit.prim as i32,
-            object_id: hit.object as i32,
-        },
+    let world = integrator.world();
+    let Some(Hit { prim, hit }) = world.intersect_hit(&ray, &mut counts.traversal) else {
+        return PixelAov::MISS;
+    };
+    let mut hit_ray = ray;
+    hit_ray.t_max = hit.t;
+    let object = scene.object_of(prim);
+    // Texture coordinates always, for the uv layer (shading computes them only where a
+    // texture reads them).
+    let s = scene.geometry().surface(prim, &hit_ray, &hit, true);
+    let m = scene.material_of(object);
+    // A textured material's albedo is the one shading uses at this hit.
+    let albedo = match m.textured {
+        Some(_) => m
+            .at_hit(&scene.geometry().hit_attributes(prim, &s), s.ns, s.ng)
+            .map_or(Vec3::ZERO, |a| a.material.diffuse.eval(s.p, s.uv)),
+        None => m.diffuse.eval(s.p, s.uv),
+    };
+    // The normal is reported as the surface defines it (outward / winding), not flipped
+    // towards the camera, so it compares directly with other engines' normals.
+    PixelAov {
+        depth: (s.p - cam.position()).dot(cam.forward()),
+        normal: s.ns,
+        prim_id: prim as i32,
+        object_id: object as i32,
+        albedo,
+        position: s.p,
+        uv: s.uv,
     }
 }

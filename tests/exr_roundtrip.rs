@@ -48,6 +48,7 @@ fn film() -> Film {
                     normal: Vec3::new(fx - 3.0, fy - 2.0, 1.0).normalize(),
                     prim_id: 100 + (x + W * y) as i32,
                     object_id: (x % 3) as i32,
+                    ..PixelAov::MISS
                 };
                 film.set(x, y, rgba, aov);
             } else {

@@ -10,6 +10,7 @@ pub mod hits;
 pub mod info;
 pub mod interrupt;
 pub mod overrides;
+pub mod passes;
 pub mod render;
 pub mod stats;
 pub mod threads;

@@ -5,6 +5,7 @@ use super::accel::AccelArgs;
 use super::accuracy::{AccuracyArgs, CutoffArgs};
 use super::interrupt::{Interrupted, on_ctrl_c};
 use super::overrides::OverrideArgs;
+use super::passes::PassArgs;
 use super::stats::{PhaseTimes, summary, summary_json};
 use super::values::{DisplayArg, UpArg};
 use super::window::WindowArgs;
@@ -83,6 +84,8 @@ pub struct RenderArgs {
     /// Write 32-bit float RGBA to EXR instead of half.
     #[arg(long)]
     float: bool,
+    #[command(flatten)]
+    passes: PassArgs,
     /// PNG encoding: the sRGB curve, or clamp (value x 255, no curve, as the paper's program).
     /// Default: the scene's `display`, else srgb (clamp for .scn scenes). EXR stays linear.
     #[arg(long, value_enum)]
@@ -168,6 +171,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let cancel = CancelFlag::default();
     // Without the handler Ctrl-C keeps its default (quit at once), which is still correct.
     let _ = on_ctrl_c(cancel.clone());
+    let writes_exr = outputs.iter().any(|p| has_extension(p, "exr"));
     let opts = RenderOptions {
         seed: args.seed,
         threads: super::threads::resolve(args.threads, args.quiet),
@@ -177,6 +181,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         effects: args.effects,
         window,
         cancel,
+        // Cryptomatte layers are EXR layers: a PNG-only render makes none.
+        cryptomatte: args.passes.cryptomatte()?.filter(|_| writes_exr),
+        transparent: args.passes.transparent(),
     };
     let mut rendered = render(&world, &opts)?;
     let scene = world.scene();
@@ -204,6 +211,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         exposure,
         z_miss: args.window.z_miss,
         partial: rendered.is_partial(),
+        aov_layers: args.passes.aov_layers(),
+        layout: args.passes.layout(),
     };
     for path in &outputs {
         args.overrides.write_image(

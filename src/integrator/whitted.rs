@@ -34,6 +34,8 @@ pub struct CameraSample {
     pub radiance: Vec3,
     /// True when the ray hit geometry or escaped into a non-black background.
     pub opaque: bool,
+    /// The object the ray hit first (what Cryptomatte names the sample by); `None` on a miss.
+    pub object: Option<u32>,
 }
 
 /// What the material of one hit is and can do.
@@ -75,12 +77,14 @@ impl<'a> Whitted<'a> {
                     self.shade::<false>(ray, &hit, 0, 1.0, counts)
                 },
                 opaque: true,
+                object: Some(hit.object),
             },
             None => {
                 let bg = self.scene.settings().background;
                 CameraSample {
                     radiance: bg,
                     opaque: bg != Vec3::ZERO,
+                    object: None,
                 }
             }
         }

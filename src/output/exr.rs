@@ -8,6 +8,10 @@
 //! | `N.X`, `N.Y`, `N.Z`     | FLOAT         | world-space unit shading normal; 0 where missed    |
 //! | `id.prim`, `id.object`  | FLOAT         | primitive / object index as a float; -1 where missed |
 //!
+//! Optional layers: `albedo`, `P`, `uv` ([`super::aov_layers`], `--aov`), the Cryptomatte
+//! layers and their metadata ([`super::cryptomatte`], `--cryptomatte`); `--layout blender`
+//! renames every channel to Blender's convention ([`super::layout`]).
+//!
 //! The header carries the camera as the standard `worldToCamera` and `worldToNDC` M44f
 //! attributes, so a compositor can project world positions into the image; `chromaticities`
 //! (Rec.709/sRGB primaries, D65 white: the colours are linear sRGB); with depth of field the
@@ -30,8 +34,11 @@ use ::exr::prelude::{
     WritableImage, f16,
 };
 
+use super::aov_layers::{self, AovLayers};
 use super::atomic::write_atomically;
+use super::cryptomatte;
 use super::header_order::sorted_header;
+use super::layout::ChannelLayout;
 use super::{OutputError, check_not_empty};
 use crate::camera::{Camera, Lens};
 use crate::film::Film;
@@ -80,6 +87,10 @@ pub struct ExrMetadata {
     /// The exposure in stops already applied to the film's colour ([`crate::film::Film::expose`]);
     /// recorded, not applied, here.
     pub exposure: f32,
+    /// The optional AOV layers to write (albedo, position, uv).
+    pub aov_layers: AovLayers,
+    /// The channel naming convention.
+    pub layout: ChannelLayout,
 }
 
 impl Default for ExrMetadata {
@@ -92,6 +103,8 @@ impl Default for ExrMetadata {
             exposure: 0.0,
             z_miss: f32::INFINITY,
             partial: false,
+            aov_layers: AovLayers::default(),
+            layout: ChannelLayout::Lumis,
         }
     }
 }
@@ -171,7 +184,7 @@ fn build_layer(
     let float = |values: Vec<f32>| FlatSamples::F32(values);
     // Ids are floats because compositors handle FLOAT everywhere and -1 must survive; f32 is
     // exact for indices up to 2^24.
-    let channels = vec![
+    let mut channels = vec![
         channel("R", beauty(|p| p.x)),
         channel("G", beauty(|p| p.y)),
         channel("B", beauty(|p| p.z)),
@@ -202,6 +215,17 @@ fn build_layer(
             float(aov.iter().map(|a| a.object_id as f32).collect()),
         ),
     ];
+    for (name, values) in aov_layers::channels(film, meta.aov_layers) {
+        channels.push(channel(name, float(values)));
+    }
+    for layer in film.crypto() {
+        for (name, values) in cryptomatte::channels(layer, meta.layout) {
+            channels.push(channel(&name, float(values)));
+        }
+    }
+    for c in &mut channels {
+        c.name = Text::from(meta.layout.channel(&c.name.to_string()).as_str());
+    }
 
     let (full_width, full_height) = film.full_size();
     let (ox, oy) = film.origin();
@@ -241,6 +265,11 @@ fn build_layer(
     .chain(extra)
     {
         attributes.other.insert(Text::from(name), value);
+    }
+    for layer in film.crypto() {
+        attributes
+            .other
+            .extend(cryptomatte::attributes(layer, meta.layout));
     }
 
     let encoding = Encoding {

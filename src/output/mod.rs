@@ -13,7 +13,9 @@
 //! display = "srgb"      # PNG only: "srgb" transfer curve or "clamp" (value x 255)
 //! ```
 
+mod aov_layers;
 mod atomic;
+mod cryptomatte;
 mod display;
 mod exposure;
 mod tonemap;
@@ -22,6 +24,7 @@ mod tonemap;
 pub use self::atomic::write_atomically;
 mod exr;
 mod header_order;
+mod layout;
 mod png;
 
 use std::path::{Path, PathBuf};
@@ -29,6 +32,7 @@ use std::path::{Path, PathBuf};
 use crate::camera::Camera;
 use crate::film::Film;
 
+pub use self::aov_layers::AovLayers;
 pub use self::display::{DisplayTransform, linear_to_srgb8};
 pub use self::exposure::{AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET, auto_exposure};
 pub use self::exr::{
@@ -36,6 +40,7 @@ pub use self::exr::{
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
     imath_m44f, write_exr,
 };
+pub use self::layout::ChannelLayout;
 pub use self::png::{write_png, write_png_with};
 pub use self::tonemap::Tonemap;
 

@@ -14,6 +14,7 @@ pub struct SceneBuilder {
     prim_object: Vec<u32>,
     objects: Vec<Object>,
     materials: Vec<Material>,
+    material_names: Vec<String>,
     lights: Vec<Light>,
     settings: Settings,
     warnings: Vec<String>,
@@ -33,15 +34,24 @@ impl SceneBuilder {
             prim_object: Vec::new(),
             objects: Vec::new(),
             materials: Vec::new(),
+            material_names: Vec::new(),
             lights: Vec::new(),
             settings: Settings::default(),
             warnings: Vec::new(),
         }
     }
 
-    /// Adds a material; returns its index.
+    /// Adds a material named `material<index>`; returns its index.
     pub fn add_material(&mut self, m: Material) -> u32 {
+        let name = format!("material{}", self.materials.len());
+        self.add_named_material(name, m)
+    }
+
+    /// Adds a material with the name the scene file gives it (what Cryptomatte's
+    /// `CryptoMaterial` mattes are called); returns its index.
+    pub fn add_named_material(&mut self, name: impl Into<String>, m: Material) -> u32 {
         self.materials.push(m);
+        self.material_names.push(name.into());
         self.materials.len() as u32 - 1
     }
 
@@ -109,6 +119,7 @@ impl SceneBuilder {
             prim_object: self.prim_object,
             objects: self.objects,
             materials: self.materials,
+            material_names: self.material_names,
             lights: self.lights,
             camera,
             settings: self.settings,

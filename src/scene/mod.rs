@@ -38,6 +38,7 @@ pub struct Scene {
     prim_object: Vec<u32>,
     objects: Vec<Object>,
     materials: Vec<Material>,
+    material_names: Vec<String>,
     lights: Vec<Light>,
     camera: Camera,
     settings: Settings,
@@ -76,6 +77,11 @@ impl Scene {
     /// Materials.
     pub fn materials(&self) -> &[Material] {
         &self.materials
+    }
+
+    /// Material names, by material index (the scene file's, else `material<index>`).
+    pub fn material_names(&self) -> &[String] {
+        &self.material_names
     }
 
     /// Material of object `object`.

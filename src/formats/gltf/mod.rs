@@ -79,7 +79,11 @@ fn load_inner(
         .collect();
     let material_ids: Vec<u32> = converted
         .iter()
-        .map(|c| b.add_material(c.material.clone()))
+        .zip(doc.materials())
+        .map(|(c, m)| match m.name() {
+            Some(name) => b.add_named_material(name, c.material.clone()),
+            None => b.add_material(c.material.clone()),
+        })
         .collect();
     warnings.extend(images.unused(&doc));
     warnings.extend(materials::unused_extensions(&doc, origin));

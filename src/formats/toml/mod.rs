@@ -82,7 +82,7 @@ impl Loader<'_> {
         self.render(&doc.render)?;
         for (name, m) in &doc.materials {
             let material = self.material(name, m)?;
-            let id = self.builder.add_material(material);
+            let id = self.builder.add_named_material(name.clone(), material);
             self.materials.insert(name.clone(), id);
         }
         for (i, l) in doc.light.iter().enumerate() {

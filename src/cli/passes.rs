@@ -1,0 +1,95 @@
+//! The flags of `lumis render` that choose what the EXR holds beyond the beauty, depth,
+//! normal and id layers: extra AOVs, Cryptomatte, the channel naming, transparent misses.
+
+use anyhow::{Result, bail};
+use clap::{Args, ValueEnum};
+use lumis::cryptomatte::{DEFAULT_LEVELS, MAX_LEVELS};
+use lumis::output::{AovLayers, ChannelLayout};
+
+/// One value of `--aov`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AovArg {
+    /// albedo.R/G/B: the material's diffuse colour at the hit, textures evaluated.
+    Albedo,
+    /// P.X/Y/Z: the world-space hit point.
+    Position,
+    /// uv.U/V: the surface's texture coordinates at the hit.
+    Uv,
+}
+
+/// `--layout`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LayoutArg {
+    /// R, G, B, A, Z, N.X, id.object, albedo.R, P.X, uv.U, CryptoObject00.R, ...
+    Lumis,
+    /// Blender's multilayer names: ViewLayer.Combined.R, ViewLayer.Depth.Z,
+    /// ViewLayer.Normal.X, ViewLayer.IndexOB.X, ViewLayer.DiffCol.R, ViewLayer.CryptoObject00.R.
+    Blender,
+}
+
+impl From<LayoutArg> for ChannelLayout {
+    fn from(l: LayoutArg) -> Self {
+        match l {
+            LayoutArg::Lumis => ChannelLayout::Lumis,
+            LayoutArg::Blender => ChannelLayout::Blender,
+        }
+    }
+}
+
+/// EXR passes and alpha.
+#[derive(Args, Debug)]
+pub struct PassArgs {
+    /// EXR only: extra AOV layers, a comma list, from the pinhole ray through each pixel
+    /// centre like Z and N (0 where it misses).
+    #[arg(long, value_enum, value_delimiter = ',', value_name = "LIST")]
+    aov: Vec<AovArg>,
+    /// EXR only: CryptoObject and CryptoMaterial layers (Cryptomatte 1.1.0): anti-aliased
+    /// mattes by object and material name from every camera sample, with their manifest.
+    #[arg(long)]
+    cryptomatte: bool,
+    /// Cryptomatte ranks (ids) kept per pixel; two per RGBA layer.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_LEVELS, requires = "cryptomatte")]
+    cryptomatte_levels: u32,
+    /// EXR channel names: lumis's own or Blender's multilayer convention.
+    #[arg(long, value_enum, default_value = "lumis")]
+    layout: LayoutArg,
+    /// Camera rays that hit nothing are transparent: A = 0 and no background colour there
+    /// (reflections and refractions still see the background), for compositing over a plate.
+    #[arg(long)]
+    transparent: bool,
+}
+
+impl PassArgs {
+    /// The optional AOV layers asked for.
+    pub fn aov_layers(&self) -> AovLayers {
+        AovLayers {
+            albedo: self.aov.contains(&AovArg::Albedo),
+            position: self.aov.contains(&AovArg::Position),
+            uv: self.aov.contains(&AovArg::Uv),
+        }
+    }
+
+    /// The Cryptomatte ranks per pixel, or `None` without `--cryptomatte`.
+    pub fn cryptomatte(&self) -> Result<Option<u32>> {
+        if !self.cryptomatte {
+            return Ok(None);
+        }
+        if !(1..=MAX_LEVELS).contains(&self.cryptomatte_levels) {
+            bail!(
+                "--cryptomatte-levels {}: expected 1 to {MAX_LEVELS}",
+                self.cryptomatte_levels
+            );
+        }
+        Ok(Some(self.cryptomatte_levels))
+    }
+
+    /// The channel naming.
+    pub fn layout(&self) -> ChannelLayout {
+        self.layout.into()
+    }
+
+    /// Whether misses are transparent.
+    pub fn transparent(&self) -> bool {
+        self.transparent
+    }
+}

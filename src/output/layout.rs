@@ -1,0 +1,95 @@
+//! How the EXR's channels are named: lumis's own short names, or Blender's multilayer
+//! convention (`ViewLayer.Combined.R`), which compositors that read Blender renders (Blender,
+//! Nuke's multi-layer readers, Resolve) sort into named layers.
+//!
+//! | lumis            | blender                          |
+//! |------------------|----------------------------------|
+//! | `R` `G` `B` `A`  | `ViewLayer.Combined.R/G/B/A`     |
+//! | `Z`              | `ViewLayer.Depth.Z`              |
+//! | `N.X/Y/Z`        | `ViewLayer.Normal.X/Y/Z`         |
+//! | `id.object`      | `ViewLayer.IndexOB.X`            |
+//! | `id.prim`        | `ViewLayer.IndexPrim.X` (lumis's own; Blender has no such pass) |
+//! | `albedo.R/G/B`   | `ViewLayer.DiffCol.R/G/B`        |
+//! | `P.X/Y/Z`        | `ViewLayer.Position.X/Y/Z`       |
+//! | `uv.U/V`         | `ViewLayer.UV.U/V`               |
+//! | `CryptoObject00.R` | `ViewLayer.CryptoObject00.R` (type name `ViewLayer.CryptoObject`) |
+
+/// The channel naming convention of the EXR.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ChannelLayout {
+    /// lumis's names (`R`, `Z`, `N.X`, `albedo.R`, `CryptoObject00.R`, ...).
+    #[default]
+    Lumis,
+    /// Blender's multilayer names (`ViewLayer.Combined.R`, `ViewLayer.Depth.Z`, ...).
+    Blender,
+}
+
+/// The view layer every Blender name is prefixed with (Blender's default view layer).
+const VIEW_LAYER: &str = "ViewLayer";
+
+impl ChannelLayout {
+    /// The name channel `name` (given in the lumis layout) has in this layout.
+    pub fn channel(self, name: &str) -> String {
+        match self {
+            Self::Lumis => name.to_string(),
+            Self::Blender => {
+                let renamed = match name {
+                    "R" | "G" | "B" | "A" => format!("Combined.{name}"),
+                    "Z" => "Depth.Z".to_string(),
+                    "id.object" => "IndexOB.X".to_string(),
+                    "id.prim" => "IndexPrim.X".to_string(),
+                    _ => match name.split_once('.') {
+                        Some((layer, c)) => format!("{}.{c}", blender_pass(layer)),
+                        None => name.to_string(),
+                    },
+                };
+                format!("{VIEW_LAYER}.{renamed}")
+            }
+        }
+    }
+
+    /// The Cryptomatte type name of `name` (`CryptoObject`) in this layout: the prefix of its
+    /// channels and the `name` its metadata records.
+    pub fn crypto_type(self, name: &str) -> String {
+        match self {
+            Self::Lumis => name.to_string(),
+            Self::Blender => format!("{VIEW_LAYER}.{name}"),
+        }
+    }
+}
+
+/// Blender's pass name for a lumis layer name.
+fn blender_pass(layer: &str) -> &str {
+    match layer {
+        "N" => "Normal",
+        "albedo" => "DiffCol",
+        "P" => "Position",
+        "uv" => "UV",
+        other => other,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blender_names() {
+        let b = ChannelLayout::Blender;
+        for (lumis, blender) in [
+            ("R", "ViewLayer.Combined.R"),
+            ("A", "ViewLayer.Combined.A"),
+            ("Z", "ViewLayer.Depth.Z"),
+            ("N.Y", "ViewLayer.Normal.Y"),
+            ("id.object", "ViewLayer.IndexOB.X"),
+            ("albedo.G", "ViewLayer.DiffCol.G"),
+            ("P.Z", "ViewLayer.Position.Z"),
+            ("uv.V", "ViewLayer.UV.V"),
+            ("CryptoObject01.B", "ViewLayer.CryptoObject01.B"),
+        ] {
+            assert_eq!(b.channel(lumis), blender);
+            assert_eq!(ChannelLayout::Lumis.channel(lumis), lumis);
+        }
+        assert_eq!(b.crypto_type("CryptoMaterial"), "ViewLayer.CryptoMaterial");
+    }
+}
