@@ -2,6 +2,8 @@
 //! `hits` flags — and what each does: precision changes the primitive tests, offset moves spawn
 //! origins, cutoff cuts reflection branches (and 0 changes nothing).
 
+mod common;
+
 use lumis::accel::{AccelKind, BuildOptions};
 use lumis::formats::toml::load_toml_str;
 use lumis::geometry::{Offset, Precision};
@@ -277,11 +279,7 @@ fn render_and_hits_take_the_flags_and_reject_bad_ones() {
             "s.npy",
         ],
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_ok(&out);
     let s = std::fs::read(dir.path().join("s.npy")).unwrap();
     let npy = npyz::NpyFile::new(&s[..]).unwrap();
     assert_eq!(npy.shape(), &[1, 6]);

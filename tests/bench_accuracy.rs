@@ -3,6 +3,8 @@
 //! precision disagrees with float64 brute force far from the origin, and the plot is written.
 //! Nothing here looks at times: speed is measured by the benchmark itself.
 
+mod common;
+
 use std::collections::HashMap;
 use std::process::Command;
 
@@ -18,11 +20,7 @@ fn bench_accuracy_writes_csv_and_plot_with_meaningful_errors() {
         .arg(&plot)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_ok(&out);
     assert!(
         std::fs::metadata(&plot).unwrap().len() > 1000,
         "plot too small"

@@ -1,6 +1,8 @@
 //! End to end through the built binary: the default scene renders; a broken scene fails with
 //! its path and line and leaves no output file behind.
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -25,11 +27,7 @@ fn default_scene_renders_small_from_any_folder() {
         .args(["--width", "64", "--height", "36", "--spp", "1", "--quiet"])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "stderr: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_ok(&out);
     assert_eq!(files_in(dir.path()), ["out.exr", "out.png"]);
     let png = image::open(dir.path().join("out.png")).unwrap();
     assert_eq!((png.width(), png.height()), (64, 36));
@@ -141,11 +139,7 @@ fn png_bytes_do_not_depend_on_thread_count() {
             ])
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        common::cli::assert_ok(&out);
     }
     let a = std::fs::read(dir.path().join("t1.png")).unwrap();
     let b = std::fs::read(dir.path().join("t2.png")).unwrap();
@@ -192,11 +186,7 @@ fn info_describes_a_scene_without_rendering() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_ok(&out);
     for needle in [
         "objects: 7 (6 spheres, 1 meshes with 1920 triangles",
         "materials: 7",

@@ -19,11 +19,7 @@ fn lumis(dir: &Path) -> Command {
 }
 
 fn ok(out: Output) {
-    assert!(
-        out.status.success(),
-        "stderr: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_ok(&out);
 }
 
 const SIZE: [&str; 8] = [

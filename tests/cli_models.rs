@@ -25,11 +25,7 @@ fn render(dir: &Path, scene: &Path, out: &str, extra: &[&str]) -> Output {
         .args(extra)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "stderr: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_ok(&out);
     out
 }
 

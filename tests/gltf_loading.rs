@@ -301,11 +301,7 @@ fn cli_renders_a_glb_directly_and_chooses_cameras() {
             .unwrap()
     };
     let out = run(&["-o", "a.png", "--camera", "0", "--gltf-scene", "0"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_ok(&out);
     assert!(dir.path().join("a.png").exists());
     let out = run(&["-o", "b.png", "--camera", "4"]);
     let stderr = String::from_utf8_lossy(&out.stderr);

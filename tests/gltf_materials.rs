@@ -363,11 +363,7 @@ fn unused_extensions_textures_and_attributes_are_named_in_warnings_and_info() {
         .arg(asset("unsupported.gltf"))
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::cli::assert_ok(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("warnings: 4"), "{text}");
     assert!(

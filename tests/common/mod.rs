@@ -8,6 +8,7 @@
 // Each test crate (and the bench, which includes this file by path) uses a different subset.
 #![allow(dead_code)]
 
+pub mod cli;
 pub mod exr;
 pub mod files;
 pub mod rays;
