@@ -219,7 +219,7 @@ fn build_layer(
         channels.push(channel(name, float(values)));
     }
     for layer in film.crypto() {
-        for (name, values) in cryptomatte::channels(layer, meta.layout) {
+        for (name, values) in cryptomatte::channels(layer) {
             channels.push(channel(&name, float(values)));
         }
     }
