@@ -77,19 +77,19 @@ fn transparent_misses_are_empty_edges_premultiplied_and_comp_back_to_opaque() {
     assert_eq!(a[MIRROR_PX], 1.0);
     assert!(close(rgb(MIRROR_PX), BG, 1e-6), "{:?}", rgb(MIRROR_PX));
     let mut edge = 0;
-    for i in 0..W * H {
-        if a[i] == 0.0 {
+    for (i, &alpha) in a.iter().enumerate() {
+        if alpha == 0.0 {
             assert_eq!(rgb(i), [0.0; 3], "pixel {i}: no sample hit, no colour");
         }
         // Left half: only the emissive sphere, so premultiplied colour is GLOW x coverage.
         if i % W < W / 2 {
-            let want = GLOW.map(|c| c * a[i]);
+            let want = GLOW.map(|c| c * alpha);
             assert!(
                 close(rgb(i), want, 1e-6),
                 "pixel {i}: {:?} vs {want:?}",
                 rgb(i)
             );
-            edge += usize::from(a[i] > 0.0 && a[i] < 1.0);
+            edge += usize::from(alpha > 0.0 && alpha < 1.0);
         }
     }
     assert!(
