@@ -9,11 +9,12 @@ use lumis::output::{AovLayers, ChannelLayout};
 /// One value of `--aov`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum AovArg {
-    /// albedo.R/G/B: the material's diffuse colour at the hit, textures evaluated.
+    /// albedo.R/G/B: the material's diffuse colour kd at the hit, textures evaluated, not lit.
     Albedo,
-    /// P.X/Y/Z: the world-space hit point.
+    /// P.X/Y/Z: the world-space hit point (projects through worldToNDC onto the pixel centre).
     Position,
-    /// uv.U/V: the surface's texture coordinates at the hit.
+    /// uv.U/V: texture coordinates at the hit (a mesh's uvs, else its barycentrics; on
+    /// spheres u = (atan2(z, x) + pi) / 2pi, v = acos(y / r) / pi, v = 0 at the top).
     Uv,
 }
 
@@ -23,7 +24,8 @@ pub enum LayoutArg {
     /// R, G, B, A, Z, N.X, id.object, albedo.R, P.X, uv.U, CryptoObject00.R, ...
     Lumis,
     /// Blender's multilayer names: ViewLayer.Combined.R, ViewLayer.Depth.Z,
-    /// ViewLayer.Normal.X, ViewLayer.IndexOB.X, ViewLayer.DiffCol.R, ViewLayer.CryptoObject00.R.
+    /// ViewLayer.Normal.X, ViewLayer.IndexOB.X, ViewLayer.IndexPrim.X, ViewLayer.DiffCol.R,
+    /// ViewLayer.Position.X, ViewLayer.UV.U/V/A (A: 1 on hits), ViewLayer.CryptoObject00.R.
     Blender,
 }
 
@@ -39,22 +41,26 @@ impl From<LayoutArg> for ChannelLayout {
 /// EXR passes and alpha.
 #[derive(Args, Debug)]
 pub struct PassArgs {
-    /// EXR only: extra AOV layers, a comma list, from the pinhole ray through each pixel
-    /// centre like Z and N (0 where it misses).
+    /// EXR only: extra AOV layers, a comma list or repeated, from the pinhole ray through
+    /// each pixel centre like Z and N (0 where it misses). Ignored for a PNG-only output.
     #[arg(long, value_enum, value_delimiter = ',', value_name = "LIST")]
     aov: Vec<AovArg>,
     /// EXR only: CryptoObject and CryptoMaterial layers (Cryptomatte 1.1.0): anti-aliased
     /// mattes by object and material name from every camera sample, with their manifest.
     #[arg(long)]
     cryptomatte: bool,
-    /// Cryptomatte ranks (ids) kept per pixel; two per RGBA layer.
+    /// Cryptomatte ranks (ids) kept per pixel, 1 to 128; two per RGBA layer
+    /// (CryptoObject00, CryptoObject01, ...). Needs --cryptomatte.
     #[arg(long, value_name = "N", default_value_t = DEFAULT_LEVELS, requires = "cryptomatte")]
     cryptomatte_levels: u32,
-    /// EXR channel names: lumis's own or Blender's multilayer convention.
+    /// EXR channel names: lumis's own or Blender's multilayer convention (same values; the
+    /// Blender UV pass adds its A channel).
     #[arg(long, value_enum, default_value = "lumis")]
     layout: LayoutArg,
     /// Camera rays that hit nothing are transparent: A = 0 and no background colour there
-    /// (reflections and refractions still see the background), for compositing over a plate.
+    /// (reflections and refractions still see the background), so edges carry fractional,
+    /// premultiplied alpha for compositing over a plate. Without it a miss is the background
+    /// colour with A = 1 (A = 0 only when the background is black).
     #[arg(long)]
     transparent: bool,
 }

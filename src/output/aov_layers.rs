@@ -6,7 +6,9 @@
 //! | `albedo.R/G/B`      | diffuse albedo `kd` at the hit (textures evaluated); 0 at misses |
 //! | `P.X/Y/Z`           | world-space hit point; 0 at misses                             |
 //! | `uv.U/V`            | texture coordinates at the hit; 0 at misses                    |
+//! | `uv.A` (Blender layout only) | 1 where the centre ray hit a surface, 0 at misses     |
 
+use super::layout::ChannelLayout;
 use crate::film::{Film, PixelAov};
 
 /// Which of the optional AOV layers to write.
@@ -20,8 +22,13 @@ pub struct AovLayers {
     pub uv: bool,
 }
 
-/// The requested layers' channels of `film`, as (lumis name, values row-major).
-pub(super) fn channels(film: &Film, layers: AovLayers) -> Vec<(&'static str, Vec<f32>)> {
+/// The requested layers' channels of `film`, as (lumis name, values row-major), with the
+/// extra channels `layout` has.
+pub(super) fn channels(
+    film: &Film,
+    layers: AovLayers,
+    layout: ChannelLayout,
+) -> Vec<(&'static str, Vec<f32>)> {
     let aov = film.aov();
     let take = |f: fn(&PixelAov) -> f32| aov.iter().map(f).collect::<Vec<f32>>();
     let mut out = Vec::new();
@@ -38,6 +45,10 @@ pub(super) fn channels(film: &Film, layers: AovLayers) -> Vec<(&'static str, Vec
     if layers.uv {
         out.push(("uv.U", take(|a| a.uv.x)));
         out.push(("uv.V", take(|a| a.uv.y)));
+        if layout.uv_has_alpha() {
+            let hit = |a: &PixelAov| if a.object_id >= 0 { 1.0 } else { 0.0 };
+            out.push(("uv.A", take(hit)));
+        }
     }
     out
 }

@@ -13,9 +13,12 @@ use ::exr::prelude::{AttributeValue, SmallVec, Text};
 use super::layout::ChannelLayout;
 use crate::cryptomatte::{CryptoLayer, metadata_key};
 
-/// The channels of `layer`, named by `layout`: (name, values row-major).
-pub(super) fn channels(layer: &CryptoLayer, layout: ChannelLayout) -> Vec<(String, Vec<f32>)> {
-    let type_name = layout.crypto_type(layer.name());
+/// The channels of `layer` in the lumis layout (`CryptoObject00.R`): (name, values
+/// row-major). The EXR writer renames every channel by the layout, these too, which makes them
+/// `ViewLayer.CryptoObject00.R` for Blender: the type name [`attributes`] records plus the
+/// rank suffix, as readers match them.
+pub(super) fn channels(layer: &CryptoLayer) -> Vec<(String, Vec<f32>)> {
+    let type_name = layer.name();
     let levels = layer.levels();
     let pixels = layer.ranks().len() / levels;
     let mut out = Vec::new();
@@ -57,4 +60,37 @@ pub(super) fn attributes(
     .into_iter()
     .map(|(key, value)| (Text::from(format!("{prefix}/{key}").as_str()), text(value)))
     .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The written name of every channel starts with the type name of the metadata, in both
+    /// layouts (a reader finds the ranks as `{name}00.R`).
+    #[test]
+    fn channels_renamed_by_the_layout_start_with_the_recorded_type_name() {
+        let layer = CryptoLayer::new("CryptoObject", &["a", "b"], 3, 2);
+        for layout in [ChannelLayout::Lumis, ChannelLayout::Blender] {
+            let names: Vec<String> = channels(&layer)
+                .into_iter()
+                .map(|(n, _)| layout.channel(&n))
+                .collect();
+            let recorded = attributes(&layer, layout)
+                .into_iter()
+                .find(|(k, _)| k.to_string().ends_with("/name"))
+                .map(|(_, v)| match v {
+                    AttributeValue::Text(t) => t.to_string(),
+                    other => panic!("{other:?}"),
+                })
+                .unwrap();
+            let want: Vec<String> = [
+                "00.R", "00.G", "00.B", "00.A", "01.R", "01.G", "01.B", "01.A",
+            ]
+            .iter()
+            .map(|s| format!("{recorded}{s}"))
+            .collect();
+            assert_eq!(names, want, "{layout:?}");
+        }
+    }
 }

@@ -215,11 +215,11 @@ fn build_layer(
             float(aov.iter().map(|a| a.object_id as f32).collect()),
         ),
     ];
-    for (name, values) in aov_layers::channels(film, meta.aov_layers) {
+    for (name, values) in aov_layers::channels(film, meta.aov_layers, meta.layout) {
         channels.push(channel(name, float(values)));
     }
     for layer in film.crypto() {
-        for (name, values) in cryptomatte::channels(layer, meta.layout) {
+        for (name, values) in cryptomatte::channels(layer) {
             channels.push(channel(&name, float(values)));
         }
     }

@@ -11,8 +11,12 @@
 //! | `id.prim`        | `ViewLayer.IndexPrim.X` (lumis's own; Blender has no such pass) |
 //! | `albedo.R/G/B`   | `ViewLayer.DiffCol.R/G/B`        |
 //! | `P.X/Y/Z`        | `ViewLayer.Position.X/Y/Z`       |
-//! | `uv.U/V`         | `ViewLayer.UV.U/V`               |
+//! | `uv.U/V`         | `ViewLayer.UV.U/V`, plus `ViewLayer.UV.A` (1 on hits, 0 on misses) |
 //! | `CryptoObject00.R` | `ViewLayer.CryptoObject00.R` (type name `ViewLayer.CryptoObject`) |
+//!
+//! The pass names are Blender's own (`RE_PASSNAME_*`: `Combined`, `Depth`, `Normal`,
+//! `IndexOB`, `DiffCol`, `Position`, `UV`) with the channel letters Blender gives each pass
+//! (`RGBA`, `Z`, `XYZ`, `X`, `RGB`, `XYZ`, `UVA`), joined with dots after the view layer.
 
 /// The channel naming convention of the EXR.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -46,6 +50,15 @@ impl ChannelLayout {
                 format!("{VIEW_LAYER}.{renamed}")
             }
         }
+    }
+
+    /// Whether the UV pass has a third channel `A` besides `U` and `V`. Blender's UV pass has
+    /// three channels, `UVA` (its manual: the third holds a constant 1 and no information),
+    /// and files meant to pass for Blender's should have the passes Blender's compositor
+    /// expects; lumis writes A = 1 where the centre ray hit and 0 where nothing was there.
+    /// lumis's own layout keeps just the two coordinates.
+    pub fn uv_has_alpha(self) -> bool {
+        self == Self::Blender
     }
 
     /// The Cryptomatte type name of `name` (`CryptoObject`) in this layout: the prefix of its
@@ -85,11 +98,13 @@ mod tests {
             ("albedo.G", "ViewLayer.DiffCol.G"),
             ("P.Z", "ViewLayer.Position.Z"),
             ("uv.V", "ViewLayer.UV.V"),
+            ("uv.A", "ViewLayer.UV.A"),
             ("CryptoObject01.B", "ViewLayer.CryptoObject01.B"),
         ] {
             assert_eq!(b.channel(lumis), blender);
             assert_eq!(ChannelLayout::Lumis.channel(lumis), lumis);
         }
         assert_eq!(b.crypto_type("CryptoMaterial"), "ViewLayer.CryptoMaterial");
+        assert!(b.uv_has_alpha() && !ChannelLayout::Lumis.uv_has_alpha());
     }
 }

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""Runs both cross-checks (hits and EXR) over the default scene, every asset in assets/ and the
+"""Runs the cross-checks (hits, EXR and the --aov layers) over the default scene, every asset in assets/ and the
 paper's scenes (../shared/paper-scenes/scenes, or --paper-scenes DIR), as CI does.
 
     tools/crosscheck_all.py [--reports DIR] [--require-paper-scenes] [--lumis PATH]
 
-Each check runs as its own process (tools/crosscheck_hits.py, tools/crosscheck_exr.py), so one
+Each check runs as its own process (tools/crosscheck_hits.py, tools/crosscheck_exr.py,
+tools/crosscheck_aov.py), so one
 scene's failure cannot disturb the next. Exit 1 if any check fails, 2 if one could not run (or
 the paper scenes are required and missing); a JSON report per scene and check goes to --reports
 (default target/crosscheck)."""
@@ -37,14 +38,14 @@ def main(argv=None):
     ap.add_argument("--paper-scenes", type=Path,
                     default=REPO.parent / "shared" / "paper-scenes" / "scenes")
     ap.add_argument("--require-paper-scenes", action="store_true")
-    ap.add_argument("--only", choices=("hits", "exr"), help="run just one of the two checks")
+    ap.add_argument("--only", choices=("hits", "exr", "aov"), help="run just one of the checks")
     lumis.add_argument(ap)
     args = ap.parse_args(argv)
     # Checked once here rather than failing every scene the same way (and passed on as it is).
     exe = args.lumis or lumis.binary()
     args.reports.mkdir(parents=True, exist_ok=True)
     failed = []
-    checks = [c for c in ("hits", "exr") if args.only in (None, c)]
+    checks = [c for c in ("hits", "exr", "aov") if args.only in (None, c)]
     for scene in scenes(args.paper_scenes, args.require_paper_scenes):
         for check in checks:
             report = args.reports / f"{scene.stem}{scene.suffix.replace('.', '_')}.{check}.json"
