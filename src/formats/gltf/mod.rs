@@ -77,13 +77,26 @@ fn load_inner(
         .materials()
         .map(|m| materials::convert(&m, &mut images, &mut warnings))
         .collect();
+    // Material names (what Cryptomatte's material mattes are called): the file's, else the
+    // glTF index, so an unnamed material keeps its name when others are added before it.
+    let material_names: Vec<String> = doc
+        .materials()
+        .map(|m| {
+            m.name().map_or_else(
+                || format!("material{}", m.index().unwrap_or(0)),
+                str::to_owned,
+            )
+        })
+        .collect();
+    let name_of = |index: Option<usize>| match index {
+        Some(i) => material_names[i].clone(),
+        // The glTF specification's "default material" of primitives without one.
+        None => "default".to_string(),
+    };
     let material_ids: Vec<u32> = converted
         .iter()
-        .zip(doc.materials())
-        .map(|(c, m)| match m.name() {
-            Some(name) => b.add_named_material(name, c.material.clone()),
-            None => b.add_material(c.material.clone()),
-        })
+        .zip(&material_names)
+        .map(|(c, name)| b.add_named_material(name.clone(), c.material.clone()))
         .collect();
     warnings.extend(images.unused(&doc));
     warnings.extend(materials::unused_extensions(&doc, origin));
@@ -138,12 +151,14 @@ fn load_inner(
                 let coloured = object_mesh.attributes().is_some_and(|a| a.colors.is_some());
                 let material = match index {
                     // Vertex colours vary the base colour over the surface.
-                    _ if coloured => *colour_variants
-                        .entry(index)
-                        .or_insert_with(|| b.add_material(conv.with_vertex_colors())),
+                    _ if coloured => *colour_variants.entry(index).or_insert_with(|| {
+                        // The same material of the file: the same matte.
+                        b.add_named_material(name_of(index), conv.with_vertex_colors())
+                    }),
                     Some(i) => material_ids[i],
-                    None => *default_material
-                        .get_or_insert_with(|| b.add_material(fallback.material.clone())),
+                    None => *default_material.get_or_insert_with(|| {
+                        b.add_named_material(name_of(None), fallback.material.clone())
+                    }),
                 };
                 let name = if mesh.primitives().len() > 1 {
                     format!("{node_name}/{}", prim.index())

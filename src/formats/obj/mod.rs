@@ -47,8 +47,9 @@ pub struct ObjObject {
 pub struct ObjModel {
     /// The objects that have at least one non-degenerate face, in file order.
     pub objects: Vec<ObjObject>,
-    /// The materials of every MTL file the OBJ names, in order.
-    pub materials: Vec<Material>,
+    /// The materials of every MTL file the OBJ names, in order, with their `newmtl` names
+    /// (what Cryptomatte's material mattes are called).
+    pub materials: Vec<(String, Material)>,
     /// Problems survived (missing MTL or texture, ignored points/lines, degenerate faces), each
     /// naming its file.
     pub warnings: Vec<String>,
@@ -117,7 +118,7 @@ pub fn load_obj(
     if let Some(resolver) = resolver {
         let mut converter = MtlConverter::new(resolver);
         for (m, source) in tobj_materials.iter().zip(mtl_sources.into_inner()) {
-            materials.push(converter.convert(m, &source));
+            materials.push((m.name.clone(), converter.convert(m, &source)));
         }
         warnings.extend(converter.warnings);
         let known: HashSet<&str> = tobj_materials.iter().map(|m| m.name.as_str()).collect();
@@ -319,9 +320,9 @@ pub fn load_obj_scene(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
     let ids: Vec<u32> = model
         .materials
         .into_iter()
-        .map(|m| b.add_material(m))
+        .map(|(name, m)| b.add_named_material(name, m))
         .collect();
-    let default = b.add_material(Material::default());
+    let default = b.add_named_material("default", Material::default());
     let turn = options.up.to_y_up();
     for o in model.objects {
         let material = o.material.map_or(default, |k| ids[k]);

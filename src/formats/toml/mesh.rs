@@ -79,7 +79,7 @@ impl Loader<'_> {
         let ids: Vec<u32> = model
             .materials
             .into_iter()
-            .map(|mat| self.builder.add_material(mat))
+            .map(|(mat_name, mat)| self.builder.add_named_material(mat_name, mat))
             .collect();
         let single = model.objects.len() == 1;
         for o in model.objects {
@@ -202,8 +202,11 @@ impl Loader<'_> {
             let material = match override_material {
                 Some(id) => id,
                 None => *materials.entry(o.material).or_insert_with(|| {
-                    self.builder
-                        .add_material(model.materials()[o.material as usize].clone())
+                    let k = o.material as usize;
+                    self.builder.add_named_material(
+                        model.material_names()[k].clone(),
+                        model.materials()[k].clone(),
+                    )
                 }),
             };
             let label = if single {
