@@ -93,6 +93,16 @@ fn cube_material_uvs_and_normals_are_read() {
     assert!(close(red.specular, Vec3::splat(0.04)));
     // No lights in the file: the default rig.
     assert_eq!(s.lights().len(), 2);
+    // The material keeps its glTF name (what Cryptomatte's material mattes are called); a
+    // primitive without a material gets the specification's default material, "default".
+    assert_eq!(s.material_names()[s.objects()[0].material as usize], "red");
+    let plain = load("hierarchy.gltf");
+    assert!(
+        plain
+            .objects()
+            .iter()
+            .all(|o| plain.material_names()[o.material as usize] == "default")
+    );
 }
 
 #[test]

@@ -127,6 +127,11 @@ fn every_illum_mode_maps_to_the_documented_material() {
     let emitter = material_named(&s, "illum1");
     assert_eq!(emitter.emission, Vec3::new(2.0, 1.0, 0.5));
     assert_eq!(material_named(&s, "illum2").shininess, 64.0);
+    // Materials keep their `newmtl` names (Cryptomatte's material mattes are called by them).
+    for o in s.objects() {
+        let name = &s.material_names()[o.material as usize];
+        assert_eq!(name, &o.name.replace("illum", "mode"), "object {}", o.name);
+    }
     assert!(s.warnings().is_empty(), "{:?}", s.warnings());
 }
 

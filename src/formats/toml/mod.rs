@@ -198,7 +198,9 @@ impl Loader<'_> {
             if let Some(&id) = self.materials.get(&key) {
                 return Ok(id);
             }
-            let id = self.builder.add_named_material("default", Material::default());
+            let id = self
+                .builder
+                .add_named_material("default", Material::default());
             self.materials.insert(key, id);
             return Ok(id);
         };
