@@ -79,7 +79,8 @@ impl Loader<'_> {
         let ids: Vec<u32> = model
             .materials
             .into_iter()
-            .map(|mat| self.builder.add_material(mat))
+            .zip(model.material_names)
+            .map(|(mat, name)| self.builder.add_named_material(name, mat))
             .collect();
         let single = model.objects.len() == 1;
         for o in model.objects {
@@ -201,9 +202,13 @@ impl Loader<'_> {
             let Some(mesh) = mesh else { continue };
             let material = match override_material {
                 Some(id) => id,
+                // Under the file's own name (glTF's, or `material<i>`), for CryptoMaterial.
                 None => *materials.entry(o.material).or_insert_with(|| {
-                    self.builder
-                        .add_material(model.materials()[o.material as usize].clone())
+                    let k = o.material as usize;
+                    self.builder.add_named_material(
+                        model.material_names()[k].clone(),
+                        model.materials()[k].clone(),
+                    )
                 }),
             };
             let label = if single {
