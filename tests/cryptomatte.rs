@@ -123,7 +123,7 @@ fn matte(pixel: &[(u32, f32)], bits: u32) -> f32 {
 fn text_attribute(image: &FlatImage, name: &str) -> Option<String> {
     let attrs = &image.layer_data[0].attributes.other;
     attrs.iter().find_map(|(k, v)| match v {
-        AttributeValue::Text(t) if k.to_string() == name => Some(t.to_string()),
+        AttributeValue::Text(t) if *k == *name => Some(t.to_string()),
         _ => None,
     })
 }
