@@ -23,10 +23,18 @@ impl Mattes {
     pub fn new(scene: &Scene, levels: u32, pixels: usize) -> Self {
         let objects: Vec<&str> = scene.objects().iter().map(|o| o.name.as_str()).collect();
         let materials: Vec<&str> = scene.material_names().iter().map(String::as_str).collect();
+        let object_material: Vec<u32> = scene.objects().iter().map(|o| o.material).collect();
+        // Loaders add materials no object ends up with (an OBJ's default, unused MTL
+        // entries): listing them would offer empty mattes.
+        let mut used = vec![false; materials.len()];
+        for &m in &object_material {
+            used[m as usize] = true;
+        }
+        let used = |m: usize| used[m];
         Self {
             object: CryptoLayer::new(CRYPTO_OBJECT, &objects, levels, pixels),
-            material: CryptoLayer::new(CRYPTO_MATERIAL, &materials, levels, pixels),
-            object_material: scene.objects().iter().map(|o| o.material).collect(),
+            material: CryptoLayer::listing(CRYPTO_MATERIAL, &materials, used, levels, pixels),
+            object_material,
         }
     }
 

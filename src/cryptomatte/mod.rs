@@ -51,12 +51,26 @@ impl CryptoLayer {
     /// with `levels` ranks for each of `pixels` pixels, all empty. Equal names share an id
     /// (the specification's grouping: two objects called "tree" are one matte).
     pub fn new(name: &str, names: &[&str], levels: u32, pixels: usize) -> Self {
+        Self::listing(name, names, |_| true, levels, pixels)
+    }
+
+    /// [`Self::new`] with only the indices `listed` accepts in the manifest: the names a
+    /// pixel can carry (materials no object uses would be empty mattes in a compositor's list).
+    pub fn listing(
+        name: &str,
+        names: &[&str],
+        listed: impl Fn(usize) -> bool,
+        levels: u32,
+        pixels: usize,
+    ) -> Self {
         let levels = levels.clamp(1, MAX_LEVELS) as usize;
         let ids = names
             .iter()
             .map(|n| id_bits(murmur3_32(n.as_bytes())))
             .collect::<Vec<_>>();
-        let manifest = names.iter().zip(&ids).map(|(n, &id)| (n.to_string(), id));
+        let manifest = (names.iter().zip(&ids).enumerate())
+            .filter(|&(i, _)| listed(i))
+            .map(|(_, (n, &id))| (n.to_string(), id));
         Self {
             name: name.to_string(),
             manifest: manifest.collect(),
@@ -185,6 +199,15 @@ mod tests {
             }
         );
         assert_eq!(out[1].coverage, 0.25);
+    }
+
+    #[test]
+    fn listing_leaves_unused_names_out_of_the_manifest_only() {
+        let layer = CryptoLayer::listing("CryptoMaterial", &["a", "b", "c"], |i| i != 1, 2, 1);
+        let names: Vec<&str> = layer.manifest().keys().map(String::as_str).collect();
+        assert_eq!(names, ["a", "c"]);
+        // The unlisted index still has its id (it is simply never hit).
+        assert_eq!(layer.id_of(1), id_bits(murmur3_32(b"b")));
     }
 
     #[test]

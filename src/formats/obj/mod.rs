@@ -47,9 +47,11 @@ pub struct ObjObject {
 pub struct ObjModel {
     /// The objects that have at least one non-degenerate face, in file order.
     pub objects: Vec<ObjObject>,
-    /// The materials of every MTL file the OBJ names, in order, with their `newmtl` names
-    /// (what Cryptomatte's material mattes are called).
-    pub materials: Vec<(String, Material)>,
+    /// The materials of every MTL file the OBJ names, in order.
+    pub materials: Vec<Material>,
+    /// The `newmtl` name of each of [`Self::materials`]: what their Cryptomatte
+    /// (`CryptoMaterial`) mattes are called, so a compositor sees the artist's names.
+    pub material_names: Vec<String>,
     /// Problems survived (missing MTL or texture, ignored points/lines, degenerate faces), each
     /// naming its file.
     pub warnings: Vec<String>,
@@ -115,10 +117,12 @@ pub fn load_obj(
     warnings.extend(mtl_warnings.into_inner());
     let tobj_materials = tobj_materials.unwrap_or_default();
     let mut materials = Vec::with_capacity(tobj_materials.len());
+    let mut material_names = Vec::with_capacity(tobj_materials.len());
     if let Some(resolver) = resolver {
         let mut converter = MtlConverter::new(resolver);
         for (m, source) in tobj_materials.iter().zip(mtl_sources.into_inner()) {
-            materials.push((m.name.clone(), converter.convert(m, &source)));
+            materials.push(converter.convert(m, &source));
+            material_names.push(m.name.clone());
         }
         warnings.extend(converter.warnings);
         let known: HashSet<&str> = tobj_materials.iter().map(|m| m.name.as_str()).collect();
@@ -167,6 +171,7 @@ pub fn load_obj(
     Ok(ObjModel {
         objects,
         materials,
+        material_names,
         warnings,
     })
 }
@@ -320,7 +325,8 @@ pub fn load_obj_scene(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
     let ids: Vec<u32> = model
         .materials
         .into_iter()
-        .map(|(name, m)| b.add_named_material(name, m))
+        .zip(model.material_names)
+        .map(|(m, name)| b.add_named_material(name, m))
         .collect();
     let default = b.add_named_material("default", Material::default());
     let turn = options.up.to_y_up();

@@ -79,7 +79,8 @@ impl Loader<'_> {
         let ids: Vec<u32> = model
             .materials
             .into_iter()
-            .map(|(mat_name, mat)| self.builder.add_named_material(mat_name, mat))
+            .zip(model.material_names)
+            .map(|(mat, name)| self.builder.add_named_material(name, mat))
             .collect();
         let single = model.objects.len() == 1;
         for o in model.objects {
@@ -201,6 +202,7 @@ impl Loader<'_> {
             let Some(mesh) = mesh else { continue };
             let material = match override_material {
                 Some(id) => id,
+                // Under the file's own name (glTF's, or `material<i>`), for CryptoMaterial.
                 None => *materials.entry(o.material).or_insert_with(|| {
                     let k = o.material as usize;
                     self.builder.add_named_material(
