@@ -86,7 +86,7 @@ pub fn read_rays(path: &Path) -> Result<Vec<[f32; RAY_COLUMNS]>, HitsError> {
         path: path.to_path_buf(),
         message,
     };
-    let bytes = std::fs::read(path).map_err(|source| HitsError::Read {
+    let bytes = lumis::formats::read_regular(path).map_err(|source| HitsError::Read {
         path: path.to_path_buf(),
         source,
     })?;
