@@ -1,6 +1,7 @@
 //! Ctrl-C during a render: the first press stops the render between tiles so that the finished
-//! ones are written (a valid, partial EXR); a second press quits at once. The process then
-//! exits with 130, the shell's code for "terminated by SIGINT".
+//! ones are written (a valid, partial EXR); a second press quits at once, deleting the
+//! temporary files of outputs not yet renamed into place (a quit skips destructors). The
+//! process then exits with 130, the shell's code for "terminated by SIGINT".
 
 use lumis::render::CancelFlag;
 
@@ -22,6 +23,7 @@ pub struct Interrupted {
 pub fn on_ctrl_c(flag: CancelFlag) -> Result<(), ctrlc::Error> {
     ctrlc::set_handler(move || {
         if flag.is_raised() {
+            lumis::output::remove_staged_temps();
             std::process::exit(EXIT_INTERRUPTED);
         }
         flag.raise();

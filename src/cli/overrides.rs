@@ -13,7 +13,9 @@ use lumis::camera::Camera;
 use lumis::film::Film;
 use lumis::formats::Override;
 use lumis::math::Vec3;
-use lumis::output::{DisplayTransform, ExrMetadata, Tonemap, write_by_extension, write_png_with};
+use lumis::output::{
+    DisplayTransform, ExrMetadata, OutputError, Tonemap, encode_exr, encode_png_with,
+};
 use lumis::scene::{MAX_SPP, Settings};
 use std::path::Path;
 
@@ -94,26 +96,26 @@ impl OverrideArgs {
         Ok(())
     }
 
-    /// Writes `film` to `path` by extension, the PNG through `--tonemap`.
-    pub fn write_image(
+    /// The bytes of `film` as the image `path` names by extension, the PNG through
+    /// `--tonemap` (the caller stages them with the run's other outputs).
+    pub fn encode_image(
         &self,
         path: &Path,
         film: &Film,
         camera: &Camera,
         meta: &ExrMetadata,
         display: DisplayTransform,
-    ) -> Result<()> {
-        let tonemap = Tonemap::from(self.tonemap);
-        let is_png = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    ) -> Result<Vec<u8>> {
+        let ext = path.extension().and_then(|e| e.to_str());
         // The film is already exposed, for the EXR too.
-        if is_png && tonemap != Tonemap::None {
-            write_png_with(path, film, 0.0, display, tonemap)?;
-        } else {
-            write_by_extension(path, film, camera, meta, 0.0, display)?;
-        }
-        Ok(())
+        let bytes = match ext.map(str::to_ascii_lowercase).as_deref() {
+            Some("png") => encode_png_with(path, film, 0.0, display, Tonemap::from(self.tonemap))?,
+            Some("exr") => encode_exr(path, film, camera, meta)?,
+            _ => Err(OutputError::UnsupportedExtension {
+                path: path.to_path_buf(),
+            })?,
+        };
+        Ok(bytes)
     }
 }
 

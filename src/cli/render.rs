@@ -11,7 +11,8 @@ use super::values::{DisplayArg, UpArg};
 use super::window::WindowArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use lumis::output::{DisplayTransform, ExrMetadata};
+use lumis::formats::record_inputs;
+use lumis::output::{DisplayTransform, ExrMetadata, PlannedOutput, StagedOutputs, prepare_outputs};
 use lumis::render::{CancelFlag, RenderOptions, render};
 use lumis::scene::UpAxis;
 use std::io::IsTerminal;
@@ -114,7 +115,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut times = PhaseTimes::default();
     let t = Instant::now();
     let defines = args.overrides.defines();
-    let mut scene = match &args.scene {
+    // Every file the load reads, so that no output can overwrite one of them.
+    let (scene, inputs) = record_inputs(|| match &args.scene {
         Some(path) => lumis::formats::load_with_overrides(
             path,
             &lumis::formats::LoadOptions {
@@ -124,7 +126,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 auto_camera: args.auto_camera,
             },
             defines,
-        )?,
+        )
+        .map_err(anyhow::Error::from),
         None if args.gltf_scene.is_some()
             || args.camera.is_some()
             || args.up.is_some()
@@ -133,8 +136,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             bail!("--gltf-scene, --camera, --up and --auto-camera need a model file")
         }
         None => lumis::formats::default_scene_with(defines)
-            .context("loading the built-in default scene")?,
-    };
+            .context("loading the built-in default scene"),
+    });
+    let mut scene = scene?;
     if !args.quiet {
         for w in scene.warnings() {
             eprintln!("warning: {w}");
@@ -159,7 +163,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     let choice = args.accel.validated()?;
     let window = args.window.window(st.width, st.height)?;
-    let outputs = output_paths(args)?;
+    let planned = output_paths(args)?;
+    // Before the render: a missing directory or an output that is an input fails at once.
+    prepare_outputs(&planned, &inputs)?;
+    let outputs: Vec<PathBuf> = planned
+        .iter()
+        .filter(|o| o.flag != STATS_JSON)
+        .map(|o| o.path.to_path_buf())
+        .collect();
     times.load = t.elapsed();
 
     let t = Instant::now();
@@ -214,21 +225,26 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         aov_layers: args.passes.aov_layers(),
         layout: args.passes.layout(),
     };
+    // All outputs are written to temporary files first and renamed only when every one
+    // succeeded, so a failing one leaves every existing file as it was.
+    let mut staged = StagedOutputs::new();
     for path in &outputs {
-        args.overrides.write_image(
+        let bytes = args.overrides.encode_image(
             path,
             &rendered.film,
             scene.camera(),
             &meta,
             scene.settings().display,
         )?;
+        staged.stage_bytes(path, &bytes)?;
     }
     times.write = t.elapsed();
 
     if let Some(path) = &args.stats_json {
         let json = summary_json(&times, &rendered.counts, &rendered.analysis);
-        lumis::output::write_text(path, &json)?;
+        staged.stage_bytes(path, json.as_bytes())?;
     }
+    staged.commit()?;
     if !args.quiet {
         for path in &outputs {
             eprintln!("wrote {}", path.display());
@@ -248,14 +264,31 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// The files to write: `-o` and `--png` when given, otherwise `out.exr` and `out.png`.
-fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
-    let mut paths: Vec<PathBuf> = args.output.iter().chain(&args.png).cloned().collect();
-    if args.output.is_none() {
-        paths.insert(0, PathBuf::from("out.exr"));
-        if args.png.is_none() {
-            paths.push(PathBuf::from("out.png"));
-        }
+/// The flag `output_paths` gives the `--stats-json` report.
+const STATS_JSON: &str = "--stats-json";
+
+/// The files to write, with the flag that named each: `-o` and `--png` when given, otherwise
+/// `out.exr` and `out.png`; then the `--stats-json` report.
+fn output_paths(args: &RenderArgs) -> Result<Vec<PlannedOutput<'_>>> {
+    let mut paths: Vec<PlannedOutput<'_>> = Vec::new();
+    let planned = |flag, path: &'static str| PlannedOutput {
+        flag,
+        path: Path::new(path),
+    };
+    match &args.output {
+        Some(p) => paths.push(PlannedOutput {
+            flag: "-o",
+            path: p,
+        }),
+        None => paths.push(planned("the default output", "out.exr")),
+    }
+    match &args.png {
+        Some(p) => paths.push(PlannedOutput {
+            flag: "--png",
+            path: p,
+        }),
+        None if args.output.is_none() => paths.push(planned("the default output", "out.png")),
+        None => {}
     }
     if let Some(png) = &args.png
         && !has_extension(png, "png")
@@ -265,20 +298,24 @@ fn output_paths(args: &RenderArgs) -> Result<Vec<PathBuf>> {
     // Checked before rendering so a typo does not cost a whole render.
     if let Some(bad) = paths
         .iter()
-        .find(|p| !has_extension(p, "exr") && !has_extension(p, "png"))
+        .find(|p| !has_extension(p.path, "exr") && !has_extension(p.path, "png"))
     {
         bail!(
             "{}: unknown output format; expected a file name ending in .exr or .png",
-            bad.display()
+            bad.path.display()
         );
     }
-    if let Some(json) = &args.stats_json
-        && paths.contains(json)
-    {
-        bail!(
-            "--stats-json {}: that is also an image output; give the report its own file",
-            json.display()
-        );
+    if let Some(json) = &args.stats_json {
+        if paths.iter().any(|p| p.path == json) {
+            bail!(
+                "--stats-json {}: that is also an image output; give the report its own file",
+                json.display()
+            );
+        }
+        paths.push(PlannedOutput {
+            flag: STATS_JSON,
+            path: json,
+        });
     }
     Ok(paths)
 }

@@ -14,13 +14,17 @@
 pub mod builtin;
 mod error;
 pub mod gltf;
+mod inputs;
 pub mod obj;
+mod regular;
 mod resolver;
 pub mod scn;
 pub mod toml;
 
 pub use builtin::{default_scene, default_scene_with};
 pub use error::SceneError;
+pub use inputs::{InputFile, file_id, record_inputs};
+pub use regular::read_regular;
 pub use resolver::{Resolver, read_file, read_file_bytes, read_text};
 pub use toml::Override;
 

@@ -1,24 +1,32 @@
 //! How readers get the bytes of the files a scene references (an OBJ mesh, an MTL file, a
 //! texture, a glTF buffer): through a [`Resolver`], never by opening files themselves.
+//!
+//! The disk versions below read through [`read_regular`]: FIFOs, devices and directories are
+//! refused instead of hanging or exhausting memory, and every file read is noted for
+//! [`record_inputs`](super::record_inputs).
 
 use std::path::Path;
 
 use super::SceneError;
+use super::regular::read_regular;
 
 /// Reads file callback: the bytes of a file a scene references (an OBJ mesh, an MTL file, a
 /// texture).
 pub type Resolver<'a> = &'a dyn Fn(&Path) -> std::io::Result<Vec<u8>>;
 
-/// The resolver of scenes on disk: reads `path` whole.
+/// The resolver of scenes on disk: reads the regular file `path` whole.
 pub fn read_file_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
-    std::fs::read(path)
+    read_regular(path)
 }
 
 /// Reads a text file (a TOML, `.scn` or `.m` file), naming it in the error.
 pub fn read_text(path: &Path) -> Result<String, SceneError> {
-    std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+    String::from_utf8(read_file(path)?).map_err(|_| SceneError::Read {
         path: path.to_path_buf(),
-        source,
+        source: std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "stream did not contain valid UTF-8",
+        ),
     })
 }
 

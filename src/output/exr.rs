@@ -35,10 +35,10 @@ use ::exr::prelude::{
 };
 
 use super::aov_layers::{self, AovLayers};
-use super::atomic::write_atomically;
 use super::cryptomatte;
 use super::header_order::sorted_header;
 use super::layout::ChannelLayout;
+use super::staged::write_atomically;
 use super::{OutputError, check_not_empty};
 use crate::camera::{Camera, Lens};
 use crate::film::Film;
@@ -118,6 +118,23 @@ pub fn write_exr(
     camera: &Camera,
     meta: &ExrMetadata,
 ) -> Result<(), OutputError> {
+    let bytes = encode_exr(path, film, camera, meta)?;
+    write_atomically(path, |w| {
+        w.write_all(&bytes).map_err(|source| OutputError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
+/// The bytes [`write_exr`] would write (`path` only names the file in errors), for staging
+/// with the other outputs of a run.
+pub fn encode_exr(
+    path: &Path,
+    film: &Film,
+    camera: &Camera,
+    meta: &ExrMetadata,
+) -> Result<Vec<u8>, OutputError> {
     check_not_empty(path, film)?;
     let (full_width, full_height) = film.full_size();
     let mut attributes = ImageAttributes::new(IntegerBounds::from_dimensions(Vec2(
@@ -136,13 +153,7 @@ pub fn write_exr(
         })?;
     let encoded = encoded.into_inner();
     // Same input, same bytes: the crate's attribute order varies from run to run.
-    let bytes = sorted_header(&encoded).unwrap_or(encoded);
-    write_atomically(path, |w| {
-        w.write_all(&bytes).map_err(|source| OutputError::Write {
-            path: path.to_path_buf(),
-            source,
-        })
-    })
+    Ok(sorted_header(&encoded).unwrap_or(encoded))
 }
 
 /// The OpenEXR/Imath M44f memory layout of a glam column-vector matrix.

@@ -2,8 +2,11 @@
 //!
 //! This is the only module that touches image files. Every writer encodes into a temporary file
 //! in the target's directory and renames it over the target only once encoding has succeeded
-//! (see `atomic.rs`), so a failed or interrupted write never leaves a truncated image behind and
-//! never destroys an existing one.
+//! (see `staged.rs`), so a failed or interrupted write never leaves a truncated image behind and
+//! never destroys an existing one. A run with several outputs stages them all in one
+//! [`StagedOutputs`] and renames them only when every one was written, after checking them
+//! up front with [`prepare_outputs`] (directories exist and are writable, no output is an input
+//! of the run or another output).
 //!
 //! ```toml
 //! [output]
@@ -14,20 +17,26 @@
 //! ```
 
 mod aov_layers;
-mod atomic;
 mod cryptomatte;
 mod display;
+mod error;
 mod exposure;
-mod tonemap;
-
-// Public for the binary's other result files (`lumis hits` writes .npy arrays through it).
-pub use self::atomic::write_atomically;
 mod exr;
 mod header_order;
 mod layout;
 mod png;
+mod preflight;
+mod staged;
+mod temps;
+mod tonemap;
 
-use std::path::{Path, PathBuf};
+pub use self::error::OutputError;
+pub use self::preflight::{PlannedOutput, prepare_outputs};
+// Public for the binary's other result files (`lumis hits` writes .npy arrays through them).
+pub use self::staged::{StagedOutputs, TempWriter, write_atomically};
+pub use self::temps::{STALE_AFTER, remove_staged_temps, remove_stale_temps};
+
+use std::path::Path;
 
 use crate::camera::Camera;
 use crate::film::Film;
@@ -38,10 +47,10 @@ pub use self::exposure::{AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET, auto_ex
 pub use self::exr::{
     ATTR_EXPOSURE, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
-    imath_m44f, write_exr,
+    encode_exr, imath_m44f, write_exr,
 };
 pub use self::layout::ChannelLayout;
-pub use self::png::{write_png, write_png_with};
+pub use self::png::{encode_png_with, write_png, write_png_with};
 pub use self::tonemap::Tonemap;
 
 /// Writes `text` to `path` atomically (a report beside the images, e.g. `--stats-json`).
@@ -54,82 +63,6 @@ pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
                 source,
             })
     })
-}
-
-/// Why an image could not be written. Every variant names the target path.
-#[derive(Debug, thiserror::Error)]
-pub enum OutputError {
-    /// The film has no pixels; neither format can hold a 0-pixel image.
-    #[error("cannot write {}: the film is empty ({width}x{height} pixels)", path.display())]
-    EmptyFilm {
-        /// Target path.
-        path: PathBuf,
-        /// Film width in pixels.
-        width: u32,
-        /// Film height in pixels.
-        height: u32,
-    },
-    /// The extension is neither `.exr` nor `.png`.
-    #[error("cannot write {}: unknown image extension (expected .exr or .png)", path.display())]
-    UnsupportedExtension {
-        /// Target path.
-        path: PathBuf,
-    },
-    /// The PNG exposure is NaN or infinite.
-    #[error("cannot write {}: exposure {stops} stops is not a finite number", path.display())]
-    BadExposure {
-        /// Target path.
-        path: PathBuf,
-        /// The rejected exposure in stops.
-        stops: f32,
-    },
-    /// The temporary file next to the target could not be created (missing directory,
-    /// no permission, read-only file system).
-    #[error("cannot create a temporary file next to {}", path.display())]
-    CreateTemp {
-        /// Target path.
-        path: PathBuf,
-        /// The underlying I/O error.
-        #[source]
-        source: std::io::Error,
-    },
-    /// The OpenEXR encoder failed.
-    #[error("failed to encode OpenEXR image {}", path.display())]
-    Exr {
-        /// Target path.
-        path: PathBuf,
-        /// The encoder's error.
-        #[source]
-        source: ::exr::error::Error,
-    },
-    /// The PNG encoder failed.
-    #[error("failed to encode PNG image {}", path.display())]
-    Png {
-        /// Target path.
-        path: PathBuf,
-        /// The encoder's error.
-        #[source]
-        source: image::ImageError,
-    },
-    /// Flushing or syncing the finished temporary file failed.
-    #[error("failed to write image data for {}", path.display())]
-    Write {
-        /// Target path.
-        path: PathBuf,
-        /// The underlying I/O error.
-        #[source]
-        source: std::io::Error,
-    },
-    /// The finished temporary file could not be renamed onto the target (for example, the
-    /// target is a directory). The temporary file has been removed.
-    #[error("cannot move the finished image into place at {}", path.display())]
-    Persist {
-        /// Target path.
-        path: PathBuf,
-        /// The underlying I/O error.
-        #[source]
-        source: std::io::Error,
-    },
 }
 
 /// Writes `film` as OpenEXR (`.exr`) or PNG (`.png`) depending on the extension of `path`,

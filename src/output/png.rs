@@ -6,7 +6,7 @@ use std::path::Path;
 use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
 
-use super::atomic::write_atomically;
+use super::staged::write_atomically;
 use super::{DisplayTransform, Tonemap};
 use super::{OutputError, check_not_empty};
 use crate::film::Film;
@@ -35,6 +35,25 @@ pub fn write_png_with(
     display: DisplayTransform,
     tonemap: Tonemap,
 ) -> Result<(), OutputError> {
+    let bytes = encode_png_with(path, film, exposure_stops, display, tonemap)?;
+    write_atomically(path, |w| {
+        use std::io::Write as _;
+        w.write_all(&bytes).map_err(|source| OutputError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
+/// The bytes [`write_png_with`] would write (`path` only names the file in errors), for
+/// staging with the other outputs of a run.
+pub fn encode_png_with(
+    path: &Path,
+    film: &Film,
+    exposure_stops: f32,
+    display: DisplayTransform,
+    tonemap: Tonemap,
+) -> Result<Vec<u8>, OutputError> {
     check_not_empty(path, film)?;
     if !exposure_stops.is_finite() {
         return Err(OutputError::BadExposure {
@@ -43,24 +62,23 @@ pub fn write_png_with(
         });
     }
     let scale = exposure_stops.exp2();
-    let bytes: Vec<u8> = film
+    let pixels: Vec<u8> = film
         .rgba()
         .iter()
         .flat_map(|p| (p.truncate() * scale).to_array())
         .map(|v| display.encode8(tonemap.apply(v)))
         .collect();
-
-    write_atomically(path, |w| {
-        PngEncoder::new(w)
-            .write_image(
-                &bytes,
-                film.width(),
-                film.height(),
-                image::ExtendedColorType::Rgb8,
-            )
-            .map_err(|source| OutputError::Png {
-                path: path.to_path_buf(),
-                source,
-            })
-    })
+    let mut encoded = Vec::new();
+    PngEncoder::new(&mut encoded)
+        .write_image(
+            &pixels,
+            film.width(),
+            film.height(),
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(|source| OutputError::Png {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    Ok(encoded)
 }

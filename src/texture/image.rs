@@ -70,10 +70,11 @@ impl ImageTexture {
 
     /// Reads and decodes the image file at `path` (see [`ImageTexture::decode`]).
     pub fn load(path: &Path) -> Result<Self, ImageTextureError> {
-        let bytes = std::fs::read(path).map_err(|source| ImageTextureError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let bytes =
+            crate::formats::read_regular(path).map_err(|source| ImageTextureError::Read {
+                path: path.to_path_buf(),
+                source,
+            })?;
         Self::decode(&bytes, path)
     }
 

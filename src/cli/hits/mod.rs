@@ -5,12 +5,12 @@ pub mod records;
 
 use super::accel::AccelArgs;
 use super::accuracy::AccuracyArgs;
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::Args;
-use records::{
-    read_rays, spawn_rows, sphere_rows, trace_rays, triangle_rows, write_rows, write_text,
-};
-use std::path::PathBuf;
+use lumis::formats::record_inputs;
+use lumis::output::{PlannedOutput, StagedOutputs, prepare_outputs};
+use records::{read_rays, spawn_rows, sphere_rows, stage_rows, trace_rays, triangle_rows};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Arguments of `lumis hits`.
@@ -63,15 +63,21 @@ pub struct HitsArgs {
 /// Loads the scene and rays, traces them, writes the hits (and triangles, spheres, timings).
 pub fn run(args: &HitsArgs) -> Result<()> {
     let accel_kind = args.accel.validated()?;
+    let outputs = planned_outputs(args)?;
     let start = Instant::now();
-    let mut scene = lumis::formats::load(&args.scene)?;
+    // Every file read (the scene, what it references, the rays): no output may be one of them.
+    let (scene, mut inputs) = record_inputs(|| lumis::formats::load(&args.scene));
+    let mut scene = scene?;
     args.accuracy.apply(scene.settings_mut())?;
     scene
         .settings()
         .validate()
         .context("the settings after the command-line overrides")?;
     let load_s = start.elapsed().as_secs_f64();
-    let rays = read_rays(&args.rays)?;
+    let (rays, ray_inputs) = record_inputs(|| read_rays(&args.rays));
+    let rays = rays?;
+    inputs.extend(ray_inputs);
+    prepare_outputs(&outputs, &inputs)?;
     // The build runs on the same workers as the tracing, so `--threads 1` builds on one thread.
     let run = || {
         let start = Instant::now();
@@ -94,15 +100,18 @@ pub fn run(args: &HitsArgs) -> Result<()> {
             .install(run),
         None => run(),
     };
-    write_rows(&args.out, &hits)?;
+    // Every result goes to a temporary file first; they replace existing files only once all
+    // were written.
+    let mut staged = StagedOutputs::new();
+    stage_rows(&mut staged, &args.out, &hits)?;
     if let Some(path) = &args.spawn_out {
-        write_rows(path, &spawn_rows(&world, &rays))?;
+        stage_rows(&mut staged, path, &spawn_rows(&world, &rays))?;
     }
     if let Some(path) = &args.triangles_out {
-        write_rows(path, &triangle_rows(world.scene()))?;
+        stage_rows(&mut staged, path, &triangle_rows(world.scene()))?;
     }
     if let Some(path) = &args.spheres_out {
-        write_rows(path, &sphere_rows(world.scene()))?;
+        stage_rows(&mut staged, path, &sphere_rows(world.scene()))?;
     }
     if let Some(path) = &args.timings {
         let json = serde_json::json!({
@@ -114,8 +123,43 @@ pub fn run(args: &HitsArgs) -> Result<()> {
             "geometry_bytes": world.scene().geometry().bytes(),
             "accel_bytes": world.accel().bytes(),
         });
-        let json = format!("{json}\n");
-        write_text(path, &json)?;
+        staged.stage_bytes(path, format!("{json}\n").as_bytes())?;
     }
+    staged.commit()?;
     Ok(())
+}
+
+/// The result files with the flag naming each; the arrays must be named `.npy`, so that a
+/// slip such as `--out hits.toml` cannot replace a file of another kind.
+fn planned_outputs(args: &HitsArgs) -> Result<Vec<PlannedOutput<'_>>> {
+    let arrays = [
+        ("--out", Some(&args.out)),
+        ("--spawn-out", args.spawn_out.as_ref()),
+        ("--triangles-out", args.triangles_out.as_ref()),
+        ("--spheres-out", args.spheres_out.as_ref()),
+    ];
+    let mut outputs = Vec::new();
+    for (flag, path) in arrays {
+        let Some(path) = path else { continue };
+        if !is_npy(path) {
+            bail!(
+                "{flag} {}: the file name must end in .npy (the output is a NumPy array)",
+                path.display()
+            );
+        }
+        outputs.push(PlannedOutput { flag, path });
+    }
+    if let Some(path) = &args.timings {
+        outputs.push(PlannedOutput {
+            flag: "--timings",
+            path,
+        });
+    }
+    Ok(outputs)
+}
+
+fn is_npy(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("npy"))
 }

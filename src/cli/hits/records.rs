@@ -28,7 +28,7 @@ use rayon::prelude::*;
 use lumis::accel::{Hit, TraversalStats};
 use lumis::geometry::Primitive;
 use lumis::math::{Ray, Vec3};
-use lumis::output::{OutputError, write_atomically};
+use lumis::output::{OutputError, StagedOutputs};
 use lumis::scene::{Scene, World};
 
 /// Floats per input ray row.
@@ -86,7 +86,7 @@ pub fn read_rays(path: &Path) -> Result<Vec<[f32; RAY_COLUMNS]>, HitsError> {
         path: path.to_path_buf(),
         message,
     };
-    let bytes = std::fs::read(path).map_err(|source| HitsError::Read {
+    let bytes = lumis::formats::read_regular(path).map_err(|source| HitsError::Read {
         path: path.to_path_buf(),
         source,
     })?;
@@ -281,22 +281,14 @@ pub fn sphere_rows(scene: &Scene) -> Vec<[f32; SPHERE_COLUMNS]> {
         .collect()
 }
 
-/// Writes `text` to `path` atomically (temporary file, then rename).
-pub fn write_text(path: &Path, text: &str) -> Result<(), HitsError> {
-    write_atomically(path, |w| {
-        w.write_all(text.as_bytes())
-            .map_err(|source| OutputError::Write {
-                path: path.to_path_buf(),
-                source,
-            })
-    })?;
-    Ok(())
-}
-
-/// Writes `rows` as an `(len, N)` float32 C-order `.npy` array, atomically (temporary file in
-/// the same folder, then rename), so `path` is never left half-written.
-pub fn write_rows<const N: usize>(path: &Path, rows: &[[f32; N]]) -> Result<(), HitsError> {
-    write_atomically(path, |w| {
+/// Stages `rows` as an `(len, N)` float32 C-order `.npy` array for `path` (written to a
+/// temporary file beside it, renamed when the run's outputs are committed).
+pub fn stage_rows<const N: usize>(
+    staged: &mut StagedOutputs,
+    path: &Path,
+    rows: &[[f32; N]],
+) -> Result<(), HitsError> {
+    staged.stage(path, |w| {
         let io_err = |source| OutputError::Write {
             path: path.to_path_buf(),
             source,

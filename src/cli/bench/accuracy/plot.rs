@@ -25,7 +25,7 @@ fn err(e: impl std::fmt::Display) -> anyhow::Error {
 fn register_font() -> Result<bool> {
     let env = std::env::var("LUMIS_PLOT_FONT").ok();
     for path in env.iter().map(String::as_str).chain(FONT_PATHS) {
-        if let Ok(bytes) = std::fs::read(path) {
+        if let Ok(bytes) = lumis::formats::read_regular(Path::new(path)) {
             // plotters keeps fonts for the life of the process.
             let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
             plotters::style::register_font("sans-serif", FontStyle::Normal, bytes)

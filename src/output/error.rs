@@ -1,0 +1,138 @@
+//! Why an output could not be written, or may not be: every variant names the target path
+//! (and, for the checks before a run, the flag that gave it).
+
+use std::path::PathBuf;
+
+/// Why an output could not be written. Every variant names the target path.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The film has no pixels; neither format can hold a 0-pixel image.
+    #[error("cannot write {}: the film is empty ({width}x{height} pixels)", path.display())]
+    EmptyFilm {
+        /// Target path.
+        path: PathBuf,
+        /// Film width in pixels.
+        width: u32,
+        /// Film height in pixels.
+        height: u32,
+    },
+    /// The extension is neither `.exr` nor `.png`.
+    #[error("cannot write {}: unknown image extension (expected .exr or .png)", path.display())]
+    UnsupportedExtension {
+        /// Target path.
+        path: PathBuf,
+    },
+    /// The PNG exposure is NaN or infinite.
+    #[error("cannot write {}: exposure {stops} stops is not a finite number", path.display())]
+    BadExposure {
+        /// Target path.
+        path: PathBuf,
+        /// The rejected exposure in stops.
+        stops: f32,
+    },
+    /// The temporary file next to the target could not be created (missing directory,
+    /// no permission, read-only file system).
+    #[error("cannot create a temporary file next to {}", path.display())]
+    CreateTemp {
+        /// Target path.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The OpenEXR encoder failed.
+    #[error("failed to encode OpenEXR image {}", path.display())]
+    Exr {
+        /// Target path.
+        path: PathBuf,
+        /// The encoder's error.
+        #[source]
+        source: ::exr::error::Error,
+    },
+    /// The PNG encoder failed.
+    #[error("failed to encode PNG image {}", path.display())]
+    Png {
+        /// Target path.
+        path: PathBuf,
+        /// The encoder's error.
+        #[source]
+        source: image::ImageError,
+    },
+    /// Flushing or syncing the finished temporary file failed.
+    #[error("failed to write image data for {}", path.display())]
+    Write {
+        /// Target path.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The finished temporary file could not be renamed onto the target (for example, the
+    /// target is a directory). The temporary file has been removed.
+    #[error("cannot move the finished image into place at {}", path.display())]
+    Persist {
+        /// Target path.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The directory an output goes in does not exist (or is not a directory).
+    #[error("{flag} {}: the directory {} does not exist", path.display(), dir.display())]
+    NoDirectory {
+        /// The option that named the output (`-o`, `--png`, ...).
+        flag: String,
+        /// Target path.
+        path: PathBuf,
+        /// Its directory.
+        dir: PathBuf,
+    },
+    /// The output path is an existing directory.
+    #[error("{flag} {}: is a directory", path.display())]
+    IsDirectory {
+        /// The option that named the output.
+        flag: String,
+        /// Target path.
+        path: PathBuf,
+    },
+    /// No file can be created in the output's directory (permissions, read-only file system).
+    #[error("{flag} {}: cannot create files in {}", path.display(), dir.display())]
+    NotWritable {
+        /// The option that named the output.
+        flag: String,
+        /// Target path.
+        path: PathBuf,
+        /// Its directory.
+        dir: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The output is a file the run reads (the scene, a texture, the rays).
+    #[error(
+        "{flag} {}: is an input of this run (read as {}); writing it would destroy it, so \
+         choose another file",
+        path.display(),
+        input.display()
+    )]
+    IsInput {
+        /// The option that named the output.
+        flag: String,
+        /// Target path.
+        path: PathBuf,
+        /// The input it is, as the loader named it.
+        input: PathBuf,
+    },
+    /// Two outputs are the same file.
+    #[error("{flag} {}: is the same file as {other_flag} {}", path.display(), other.display())]
+    SameFile {
+        /// The option that named the later output.
+        flag: String,
+        /// Its path.
+        path: PathBuf,
+        /// The option that named the earlier output.
+        other_flag: String,
+        /// Its path.
+        other: PathBuf,
+    },
+}
