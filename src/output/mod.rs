@@ -18,6 +18,7 @@ mod atomic;
 mod cryptomatte;
 mod display;
 mod exposure;
+mod finite;
 mod tonemap;
 
 // Public for the binary's other result files (`lumis hits` writes .npy arrays through it).
@@ -40,6 +41,7 @@ pub use self::exr::{
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
     imath_m44f, write_exr,
 };
+pub use self::finite::{NonFinite, check_finite};
 pub use self::layout::ChannelLayout;
 pub use self::png::{write_png, write_png_with};
 pub use self::tonemap::Tonemap;
@@ -119,6 +121,15 @@ pub enum OutputError {
         /// The underlying I/O error.
         #[source]
         source: std::io::Error,
+    },
+    /// The film holds a NaN or infinite sample; nothing was written.
+    #[error("cannot write {}", path.display())]
+    NonFinite {
+        /// Target path.
+        path: PathBuf,
+        /// How many samples, and the first.
+        #[source]
+        source: NonFinite,
     },
     /// The finished temporary file could not be renamed onto the target (for example, the
     /// target is a directory). The temporary file has been removed.
