@@ -155,8 +155,11 @@ impl Film {
     /// by a power of two, exactly.
     pub fn expose(&mut self, stops: f32) {
         let scale = stops.exp2();
+        // Saturating: a bright pixel times a large exposure stays finite (f32::MAX), never inf.
         for p in &mut self.rgba {
-            *p = (p.truncate() * scale).extend(p.w);
+            *p = (p.truncate() * scale)
+                .min(Vec3::splat(f32::MAX))
+                .extend(p.w);
         }
     }
 

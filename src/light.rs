@@ -15,6 +15,7 @@
 //! ```
 
 use crate::math::Vec3;
+use crate::scene::limits::MAX_IRRADIANCE;
 
 /// Lumens per watt: the luminous efficacy of 555 nm light, which defines the candela. glTF
 /// light intensities are photometric (candela, lux); lumis's are radiometric (W/sr, W/m^2).
@@ -84,7 +85,9 @@ impl Light {
                 LightSample {
                     wi: d / distance,
                     distance,
-                    irradiance: *intensity / dist2,
+                    // I / d^2 has no bound as d -> 0 (a surface through the light): capped, so
+                    // sums of lights stay finite.
+                    irradiance: (*intensity / dist2).min(Vec3::splat(MAX_IRRADIANCE)),
                 }
             }
             Light::Unattenuated {
@@ -122,7 +125,7 @@ impl Light {
                 LightSample {
                     wi,
                     distance,
-                    irradiance: *intensity * (falloff / dist2),
+                    irradiance: (*intensity * (falloff / dist2)).min(Vec3::splat(MAX_IRRADIANCE)),
                 }
             }
         }

@@ -96,7 +96,7 @@ fn lambertian_sphere_under_point_light_matches_analytic_radiance() {
         None,
     )
     .unwrap();
-    let scene = b.build(cam);
+    let scene = b.build(cam).expect("scene within the value limits");
     let (film, counts) = run(&scene, 2);
     // Expected L = kd/pi * I cos / d^2 at the point each pixel-centre ray hits; samples jitter
     // within the pixel, so the tolerance is 1% of the value.
@@ -167,7 +167,7 @@ fn mirror_reflects_the_known_colour() {
         None,
     )
     .unwrap();
-    let scene = b.build(cam);
+    let scene = b.build(cam).expect("scene within the value limits");
     let (film, counts) = run(&scene, 2);
     let expected = sky * 0.8;
     for y in 0..32 {
@@ -221,7 +221,7 @@ fn glass_slab_at_normal_incidence_transmits_the_fresnel_fraction() {
         None,
     )
     .unwrap();
-    let scene = b.build(cam);
+    let scene = b.build(cam).expect("scene within the value limits");
     let (film, counts) = run(&scene, 1);
     let f = 0.04f32;
     let expected = (1.0 - f) * (1.0 - f) * (1.0 + f * f);
@@ -264,7 +264,7 @@ fn shadowed_pixel_is_exactly_ambient() {
         None,
     )
     .unwrap();
-    let scene = b.build(cam);
+    let scene = b.build(cam).expect("scene within the value limits");
     let (film, _) = run(&scene, 2);
     let (x, y) = pixel_of(&scene, Vec3::ZERO);
     assert_eq!(
@@ -326,7 +326,7 @@ fn image_and_counts_do_not_depend_on_thread_count() {
         None,
     )
     .unwrap();
-    let scene = b.build(cam);
+    let scene = b.build(cam).expect("scene within the value limits");
     let (f1, c1) = run(&scene, 1);
     let (f2, c2) = run(&scene, 2);
     assert_eq!(f1, f2);

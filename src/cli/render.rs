@@ -157,9 +157,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     st.validate()
         .context("the render settings after the command-line overrides")?;
     if let Some(ev) = args.exposure
-        && !ev.is_finite()
+        && (ev.is_nan() || ev.abs() > lumis::scene::limits::MAX_EXPOSURE)
     {
-        bail!("--exposure {ev}: expected a finite number of stops");
+        bail!("--exposure {ev}: expected a finite number of stops within +-64");
     }
     let choice = args.accel.validated()?;
     let window = args.window.window(st.width, st.height)?;
@@ -212,6 +212,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         None => scene.settings().exposure,
     };
     rendered.film.expose(exposure);
+    // The last line of defence of the NaN guarantee: nothing is written from a film with a
+    // non-finite sample (the loaders' limits should make this unreachable).
+    lumis::output::check_finite(&rendered.film)?;
 
     let t = Instant::now();
     let meta = ExrMetadata {

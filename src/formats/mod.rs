@@ -102,8 +102,8 @@ fn load_by_extension(path: &Path, options: &LoadOptions) -> Result<Scene, SceneE
         _ if *options != LoadOptions::default() => Err(SceneError::invalid(
             path,
             "options",
-            "a scene or camera index can only be chosen in glTF files, an up axis or the \
-             automatic camera in glTF and OBJ files",
+            "a scene or camera index (--gltf-scene, --camera) applies to glTF files only, an \
+             up axis or the automatic camera (--up, --auto-camera) to glTF and OBJ files only",
         )),
         Some("toml") => toml::load_toml_file(path),
         Some("scn") => scn::load_scn_file(path),

@@ -17,6 +17,10 @@ pub enum MeshError {
     /// A position is NaN or infinite.
     #[error("vertex {0} has a non-finite position")]
     NonFinitePosition(usize),
+    /// A normal or texture coordinate is NaN, infinite or beyond [`MAX_ATTRIBUTE`]
+    /// (interpolating it would overflow).
+    #[error("vertex {index} has a non-finite or huge {what} (|x| <= 1e18)")]
+    BadAttribute { what: &'static str, index: usize },
     /// Normals or UVs are given but not one per vertex.
     #[error("{what} count {got} does not match the vertex count {expected}")]
     AttributeCount {
@@ -25,6 +29,9 @@ pub enum MeshError {
         expected: usize,
     },
 }
+
+/// Largest |component| of a vertex normal or texture coordinate.
+pub const MAX_ATTRIBUTE: f32 = 1e18;
 
 /// A triangle mesh in world space. Fields are private: the constructor checks every index.
 #[derive(Clone, Debug, PartialEq)]
@@ -84,6 +91,26 @@ impl Mesh {
         };
         check("normal", normals.as_ref().map(Vec::len))?;
         check("uv", uvs.as_ref().map(Vec::len))?;
+        // Barycentric interpolation sums three weighted values: within the limit they stay
+        // finite (a NaN or infinite uv would put NaN in the texture lookup and the AOVs).
+        let ok = |x: f32| x.abs() <= MAX_ATTRIBUTE;
+        let bad_normal = normals
+            .iter()
+            .flatten()
+            .position(|n| !n.to_array().into_iter().all(ok));
+        if let Some(index) = bad_normal {
+            return Err(MeshError::BadAttribute {
+                what: "normal",
+                index,
+            });
+        }
+        let bad_uv = uvs
+            .iter()
+            .flatten()
+            .position(|t| !t.to_array().into_iter().all(ok));
+        if let Some(index) = bad_uv {
+            return Err(MeshError::BadAttribute { what: "uv", index });
+        }
         Ok(Self {
             positions,
             normals,

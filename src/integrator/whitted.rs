@@ -13,6 +13,7 @@ use crate::geometry::{Offset, SurfacePoint};
 use crate::light::LightSample;
 use crate::material::{Material, fresnel_dielectric, reflect, refract};
 use crate::math::{Ray, Vec3};
+use crate::scene::limits::MAX_SAMPLE_RADIANCE;
 use crate::scene::{Interaction, Scene, World};
 
 /// The Whitted integrator over one world (a scene and its accelerator).
@@ -170,7 +171,7 @@ impl<'a> Whitted<'a> {
         l += self.scene.settings().ambient * kd * occlusion;
         l += self.direct::<ALL>(&sh, kd, s, ng, ns, wo, counts);
         if depth >= self.max_depth {
-            return l;
+            return saturate(l);
         }
         let dir = ray.dir.normalize();
         let mut mirror_weight = m.reflectivity;
@@ -209,7 +210,7 @@ impl<'a> Whitted<'a> {
             let r = Ray::new(s.spawn_origin(d, self.offset), d);
             l += mirror_weight * self.trace::<ALL>(&r, depth + 1, weight * mirror_weight, counts);
         }
-        l
+        saturate(l)
     }
 
     /// Lambert + Phong from every light that a shadow ray finds unoccluded. A shadow ray is
@@ -289,4 +290,12 @@ impl<'a> Whitted<'a> {
         }
         f * ls.irradiance * cos
     }
+}
+
+/// `l` capped at [`MAX_SAMPLE_RADIANCE`]: every input is finite and bounded, but 64 bounces of
+/// mirror weight up to 2 over many lights are not, and an infinite radiance times a zero weight
+/// upstream would be a NaN pixel. Identical in both effect modes, so they still agree bit for bit.
+#[inline]
+fn saturate(l: Vec3) -> Vec3 {
+    l.min(Vec3::splat(MAX_SAMPLE_RADIANCE))
 }

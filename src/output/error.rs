@@ -67,6 +67,15 @@ pub enum OutputError {
         #[source]
         source: std::io::Error,
     },
+    /// The film holds a NaN or infinite sample; nothing was written.
+    #[error("cannot write {}", path.display())]
+    NonFinite {
+        /// Target path.
+        path: PathBuf,
+        /// How many samples, and the first.
+        #[source]
+        source: super::NonFinite,
+    },
     /// The finished temporary file could not be renamed onto the target (for example, the
     /// target is a directory). The temporary file has been removed.
     #[error("cannot move the finished image into place at {}", path.display())]

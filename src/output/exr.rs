@@ -65,6 +65,9 @@ pub const ATTR_RENDER_SECONDS: &str = "lumis/renderSeconds";
 /// Custom float attribute: the exposure in stops (EV) the colour was scaled by, `2^EV`.
 pub const ATTR_EXPOSURE: &str = "lumis/exposure";
 
+/// The largest finite half float; RGBA stored as half is clamped to it.
+pub const HALF_MAX: f32 = 65504.0;
+
 /// Render facts written into the EXR header alongside the pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ExrMetadata {
@@ -136,6 +139,10 @@ pub fn encode_exr(
     meta: &ExrMetadata,
 ) -> Result<Vec<u8>, OutputError> {
     check_not_empty(path, film)?;
+    super::check_finite(film).map_err(|source| OutputError::NonFinite {
+        path: path.to_path_buf(),
+        source,
+    })?;
     let (full_width, full_height) = film.full_size();
     let mut attributes = ImageAttributes::new(IntegerBounds::from_dimensions(Vec2(
         full_width as usize,
@@ -189,7 +196,13 @@ fn build_layer(
         if meta.float_rgba {
             FlatSamples::F32(values.collect())
         } else {
-            FlatSamples::F16(values.map(f16::from_f32).collect())
+            // Half tops out at 65504: a brighter (finite) value would round to infinity, so
+            // it is clamped there; `--float` keeps the film's values.
+            FlatSamples::F16(
+                values
+                    .map(|v| f16::from_f32(v.clamp(-HALF_MAX, HALF_MAX)))
+                    .collect(),
+            )
         }
     };
     let float = |values: Vec<f32>| FlatSamples::F32(values);

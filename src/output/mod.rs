@@ -22,6 +22,7 @@ mod display;
 mod error;
 mod exposure;
 mod exr;
+mod finite;
 mod header_order;
 mod layout;
 mod png;
@@ -49,6 +50,7 @@ pub use self::exr::{
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
     encode_exr, imath_m44f, write_exr,
 };
+pub use self::finite::{NonFinite, check_finite};
 pub use self::layout::ChannelLayout;
 pub use self::png::{encode_png_with, write_png, write_png_with};
 pub use self::tonemap::Tonemap;

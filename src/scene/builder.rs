@@ -1,6 +1,7 @@
 //! [`SceneBuilder`]: the one way loaders and tests assemble a [`Scene`], so every primitive has
 //! an object and every object a material.
 
+use super::limits::{self, LimitError};
 use super::{Object, Scene, Settings};
 use crate::camera::Camera;
 use crate::geometry::Geometry;
@@ -18,6 +19,9 @@ pub struct SceneBuilder {
     lights: Vec<Light>,
     settings: Settings,
     warnings: Vec<String>,
+    /// The first element outside [`limits`], reported by [`SceneBuilder::build`]: loaders
+    /// keep their simple add calls, and no format can add an element unchecked.
+    rejected: Option<LimitError>,
 }
 
 impl Default for SceneBuilder {
@@ -38,6 +42,17 @@ impl SceneBuilder {
             lights: Vec::new(),
             settings: Settings::default(),
             warnings: Vec::new(),
+            rejected: None,
+        }
+    }
+
+    /// Records `result` of checking `element` (the first failure wins).
+    fn check(&mut self, element: impl FnOnce() -> String, result: Result<(), String>) {
+        if let (Err(message), None) = (result, &self.rejected) {
+            self.rejected = Some(LimitError {
+                element: element(),
+                message,
+            });
         }
     }
 
@@ -50,13 +65,20 @@ impl SceneBuilder {
     /// Adds a material with the name the scene file gives it (what Cryptomatte's
     /// `CryptoMaterial` mattes are called); returns its index.
     pub fn add_named_material(&mut self, name: impl Into<String>, m: Material) -> u32 {
+        let name = name.into();
+        self.check(
+            || format!("material \"{name}\""),
+            limits::check_material(&m),
+        );
         self.materials.push(m);
-        self.material_names.push(name.into());
+        self.material_names.push(name);
         self.materials.len() as u32 - 1
     }
 
     /// Adds a light.
     pub fn add_light(&mut self, l: Light) {
+        let n = self.lights.len();
+        self.check(|| format!("light[{n}]"), limits::check_light(&l));
         self.lights.push(l);
     }
 
@@ -76,8 +98,13 @@ impl SceneBuilder {
             (material as usize) < self.materials.len(),
             "material {material} not added yet"
         );
+        let name = name.into();
+        self.check(
+            || format!("sphere \"{name}\""),
+            limits::check_bounds(&s.bounds()),
+        );
         self.geometry.add_sphere(s);
-        self.push_object(name.into(), material, 1)
+        self.push_object(name, material, 1)
     }
 
     /// Adds a mesh object with material `material` (must exist); returns the object id.
@@ -91,8 +118,13 @@ impl SceneBuilder {
             (material as usize) < self.materials.len(),
             "material {material} not added yet"
         );
+        let name = name.into();
+        self.check(
+            || format!("mesh \"{name}\""),
+            limits::check_bounds(&m.bounds()),
+        );
         let n = self.geometry.add_mesh(m).len();
-        self.push_object(name.into(), material, n)
+        self.push_object(name, material, n)
     }
 
     fn push_object(&mut self, name: String, material: u32, prims: usize) -> u32 {
@@ -112,9 +144,15 @@ impl SceneBuilder {
         self.geometry.bounds()
     }
 
-    /// Finishes the scene with its camera.
-    pub fn build(self, camera: Camera) -> Scene {
-        Scene {
+    /// Finishes the scene with its camera, or names the first element (in the order added)
+    /// outside the value limits of [`limits`]: too far, too large or too bright to render
+    /// without overflow.
+    pub fn build(mut self, camera: Camera) -> Result<Scene, LimitError> {
+        self.check(|| "camera".into(), limits::check_camera(&camera));
+        if let Some(e) = self.rejected {
+            return Err(e);
+        }
+        Ok(Scene {
             geometry: self.geometry,
             prim_object: self.prim_object,
             objects: self.objects,
@@ -124,7 +162,7 @@ impl SceneBuilder {
             camera,
             settings: self.settings,
             warnings: self.warnings,
-        }
+        })
     }
 
     /// Records a problem the load survived (a missing texture, ignored elements); the CLI

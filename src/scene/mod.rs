@@ -5,11 +5,13 @@
 
 mod auto;
 mod builder;
+pub mod limits;
 mod settings;
 mod world;
 
 pub use auto::{UpAxis, default_rig, framing_camera};
 pub use builder::SceneBuilder;
+pub use limits::LimitError;
 pub use settings::{
     DEFAULT_CUTOFF, MAX_DEPTH, MAX_LENS_SAMPLES, MAX_PIXELS, MAX_SIDE, MAX_SPP, Settings,
     SettingsError,

@@ -1,6 +1,7 @@
 //! Render settings: what a scene file's `[render]` table (or a format's own keywords) sets and
 //! the command line overrides.
 
+use super::limits::{MAX_EXPOSURE, MAX_RADIANCE};
 use crate::geometry::{Offset, Precision};
 use crate::math::Vec3;
 use crate::output::DisplayTransform;
@@ -146,8 +147,8 @@ impl Settings {
         number(
             "exposure",
             self.exposure,
-            self.exposure.is_finite(),
-            "finite",
+            self.exposure.abs() <= MAX_EXPOSURE,
+            "finite, within +-64 stops",
         )?;
         number(
             "cutoff",
@@ -166,8 +167,8 @@ impl Settings {
                 number(
                     name,
                     v,
-                    v.is_finite() && v >= 0.0,
-                    "finite and non-negative",
+                    v.is_finite() && (0.0..=MAX_RADIANCE).contains(&v),
+                    "finite, in [0, 1e6]",
                 )?;
             }
         }
@@ -217,8 +218,13 @@ mod tests {
         );
         assert_eq!(
             refused(&|s| s.exposure = f32::NAN),
-            "exposure NaN must be finite"
+            "exposure NaN must be finite, within +-64 stops"
         );
+        assert_eq!(
+            refused(&|s| s.exposure = 65.0),
+            "exposure 65 must be finite, within +-64 stops"
+        );
+        assert!(refused(&|s| s.background.x = 2e6).starts_with("background 2000000 must be"));
         assert_eq!(refused(&|s| s.cutoff = 1.5), "cutoff 1.5 must be in [0, 1]");
         assert!(refused(&|s| s.medium_ior = 0.0).starts_with("medium index of refraction 0"));
         assert!(refused(&|s| s.ambient.y = -1.0).starts_with("ambient -1"));

@@ -63,7 +63,7 @@ fn camera() -> Camera {
 }
 
 fn build(b: SceneBuilder) -> Scene {
-    b.build(camera())
+    b.build(camera()).expect("scene within the value limits")
 }
 
 fn matte(c: f32) -> Material {

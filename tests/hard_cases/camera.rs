@@ -74,7 +74,7 @@ fn id_layer(cam: Camera) -> Vec<bool> {
         },
         m,
     );
-    let scene = b.build(cam);
+    let scene = b.build(cam).expect("scene within the value limits");
     let film = render_everywhere(&scene);
     (0..SIZE * SIZE)
         .map(|i| film.pixel_aov(i % SIZE, i / SIZE).object_id == 0)

@@ -59,7 +59,7 @@ fn nested_glass_at(offset: Vec3) -> Vec<f32> {
         None,
     )
     .unwrap();
-    let scene = b.build(cam);
+    let scene = b.build(cam).expect("scene within the value limits");
     let film = render_everywhere(&scene);
     film.rgba().iter().map(|p| p.x).collect()
 }

@@ -49,7 +49,7 @@ fn huge_ground_sphere_and_small_far_sphere_have_no_holes_or_speckles() {
         None,
     )
     .unwrap();
-    let scene = b.build(cam);
+    let scene = b.build(cam).expect("scene within the value limits");
     let film = render_everywhere(&scene);
 
     // Every pixel below the horizon sees the ground or the far sphere; none leaks through.
@@ -121,7 +121,7 @@ fn far_from_origin_scene_renders_like_the_same_scene_at_the_origin() {
             None,
         )
         .unwrap();
-        let scene = b.build(cam);
+        let scene = b.build(cam).expect("scene within the value limits");
         render_everywhere(&scene)
     };
     let near = render_at(Vec3::ZERO);
@@ -180,7 +180,7 @@ fn render_lit_ground(
         direction: dir,
         irradiance: Vec3::splat(3.0),
     });
-    let scene = b.build(cam);
+    let scene = b.build(cam).expect("scene within the value limits");
     let film = render_everywhere(&scene);
     (
         film,

@@ -26,6 +26,7 @@ use crate::material::{
     DIELECTRIC_F0, Material, Texture, TexturedParams, dielectric_f0, metal_rough, textured_bounds,
 };
 use crate::math::{Vec3, Vec4};
+use crate::scene::limits::{MAX_RADIANCE, clamp_range};
 use crate::texture::Encoding;
 
 /// A converted material.
@@ -125,6 +126,15 @@ pub(super) fn convert(
     if !emission.is_finite() {
         warn("emission is not finite; set to 0".into());
         emission = Vec3::ZERO;
+    }
+    // As every bad material value in glTF, too bright an emission is a warning (the limit is
+    // the scene's, `scene::limits`).
+    let (clamped, changed) = clamp_range(emission, MAX_RADIANCE);
+    if changed {
+        warn(format!(
+            "emission {emission} is above {MAX_RADIANCE:e}; clamped to it"
+        ));
+        emission = clamped;
     }
 
     let transform = |ext: Option<&Value>| ext.cloned();

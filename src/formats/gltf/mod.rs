@@ -225,7 +225,8 @@ fn load_inner(
     for w in warnings {
         b.warn(w);
     }
-    Ok(b.build(camera))
+    b.build(camera)
+        .map_err(|e| SceneError::invalid(origin, e.element, e.message))
 }
 
 use nodes::Placed;

@@ -156,7 +156,7 @@ pub(super) fn primitive_mesh(
     let counts = |e: MeshError| match e {
         MeshError::NonFinitePosition(_) => err(format!("{pos_name}: {e}")),
         MeshError::IndexOutOfRange { .. } => err(format!("{index_name}: {e}")),
-        MeshError::AttributeCount { .. } => err(e.to_string()),
+        MeshError::AttributeCount { .. } | MeshError::BadAttribute { .. } => err(e.to_string()),
     };
     let tangents = if material.needs_tangents {
         let set = material

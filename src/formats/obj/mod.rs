@@ -344,5 +344,6 @@ pub fn load_obj_scene(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
     for light in default_rig(bounds, &camera) {
         b.add_light(light);
     }
-    Ok(b.build(camera))
+    b.build(camera)
+        .map_err(|e| SceneError::invalid(path, e.element, e.message))
 }

@@ -17,8 +17,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::Resolver;
-use crate::material::{Material, Texture};
+use crate::material::{MAX_SHININESS, Material, Texture};
 use crate::math::Vec3;
+use crate::scene::limits::{MAX_RADIANCE, clamp_range};
 use crate::texture::ImageTexture;
 
 /// Turns MTL materials into lumis materials, loading each texture file once.
@@ -45,10 +46,18 @@ impl<'a> MtlConverter<'a> {
     pub fn convert(&mut self, m: &tobj::Material, mtl: &Path) -> Material {
         let d = Material::default();
         let at = format!("{}: material \"{}\"", mtl.display(), m.name);
-        let kd = self.colour(&at, "Kd", m.diffuse, Vec3::splat(0.8));
-        let ks = self.colour(&at, "Ks", m.specular, Vec3::ZERO);
-        let emission = self.colour(&at, "Ke", m.emissive, Vec3::ZERO);
+        // Reflectances above 1 (exporters write `Ks 1.5`) and absurd emission are clamped with
+        // a warning, as every bad MTL value is: the scene's limits are `scene::limits`.
+        let kd = self.colour(&at, "Kd", m.diffuse, Vec3::splat(0.8), 1.0);
+        let ks = self.colour(&at, "Ks", m.specular, Vec3::ZERO, 1.0);
+        let emission = self.colour(&at, "Ke", m.emissive, Vec3::ZERO, MAX_RADIANCE);
         let shininess = match m.shininess {
+            Some(n) if n.is_finite() && n > MAX_SHININESS => {
+                self.warnings.push(format!(
+                    "{at}: Ns {n} is above {MAX_SHININESS}; clamped to it"
+                ));
+                MAX_SHININESS
+            }
             Some(n) if n.is_finite() && n >= 0.0 => n,
             Some(n) => self.warn_default(&at, "Ns", n, 0.0),
             None => 0.0,
@@ -102,10 +111,26 @@ impl<'a> MtlConverter<'a> {
         }
     }
 
-    /// A finite, non-negative colour, or `default` with a warning.
-    fn colour(&mut self, at: &str, key: &str, c: Option<[f32; 3]>, default: Vec3) -> Vec3 {
+    /// A finite, non-negative colour clamped to `max` (with a warning), or `default` with a
+    /// warning.
+    fn colour(
+        &mut self,
+        at: &str,
+        key: &str,
+        c: Option<[f32; 3]>,
+        default: Vec3,
+        max: f32,
+    ) -> Vec3 {
         match c.map(Vec3::from) {
-            Some(c) if c.is_finite() && c.min_element() >= 0.0 => c,
+            Some(c) if c.is_finite() && c.min_element() >= 0.0 => {
+                let (clamped, changed) = clamp_range(c, max);
+                if changed {
+                    self.warnings.push(format!(
+                        "{at}: {key} {c} is above {max}; clamped to {clamped}"
+                    ));
+                }
+                clamped
+            }
             Some(c) => {
                 self.warnings.push(format!(
                     "{at}: {key} {c} must be finite and >= 0; using {default}"

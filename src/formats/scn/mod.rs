@@ -175,7 +175,8 @@ pub fn parse_scn(text: &str, path: &Path) -> Result<Scene, SceneError> {
     b.settings_mut()
         .validate()
         .map_err(|e| p.err(0, format!("render settings: {e}")))?;
-    Ok(b.build(camera))
+    b.build(camera)
+        .map_err(|e| SceneError::invalid(path, e.element, e.message))
 }
 
 /// Centres the mesh's bounds at the origin, scales its diagonal to `size`, then translates.
@@ -267,8 +268,29 @@ impl<'a> Parser<'a> {
         ))
     }
 
+    /// A material colour: every `.scn` colour is a reflectance, so in [0, 1].
     fn colour(&mut self) -> Result<Vec3, SceneError> {
-        self.vec3("colour component")
+        let c = self.vec3("colour component")?;
+        if c.min_element() < 0.0 || c.max_element() > 1.0 {
+            return Err(self.err(
+                self.line(),
+                format!("colour {c} must have components in [0, 1]"),
+            ));
+        }
+        Ok(c)
+    }
+
+    /// A reflectivity: in [0, 1], or the paper's -1 for none (read as 0).
+    fn reflectivity(&mut self) -> Result<f32, SceneError> {
+        let r = self.number("reflectivity")?;
+        if r == -1.0 || (0.0..=1.0).contains(&r) {
+            Ok(r.max(0.0))
+        } else {
+            Err(self.err(
+                self.line(),
+                format!("reflectivity {r} must be in [0, 1] (or -1 for none)"),
+            ))
+        }
     }
 
     /// A MATERIAL where geometry expects one, added to the scene; returns its index.
@@ -294,7 +316,7 @@ impl<'a> Parser<'a> {
             "ShinyColor" => (
                 Texture::Solid(self.colour()?),
                 self.number("shininess")?,
-                self.number("reflectivity")?,
+                self.reflectivity()?,
             ),
             "Glass" => {
                 m.ior = self.positive("refractive index")?;
@@ -319,7 +341,7 @@ impl<'a> Parser<'a> {
                     "Marble" => Texture::Marble { a, b: b_, scale },
                     _ => Texture::Wood { a, b: b_, scale },
                 };
-                (t, self.number("shininess")?, self.number("reflectivity")?)
+                (t, self.number("shininess")?, self.reflectivity()?)
             }
             "CrissCross" => {
                 let (a, b_, c) = (self.colour()?, self.colour()?, self.colour()?);
@@ -327,7 +349,7 @@ impl<'a> Parser<'a> {
                 (
                     Texture::CrissCross { a, b: b_, c, scale },
                     self.number("shininess")?,
-                    self.number("reflectivity")?,
+                    self.reflectivity()?,
                 )
             }
             other => {
@@ -346,7 +368,7 @@ impl<'a> Parser<'a> {
             m.shininess = shininess;
             m.specular = Vec3::splat(2.0 / (shininess + 2.0));
         }
-        m.reflectivity = reflectivity.clamp(0.0, 1.0);
+        m.reflectivity = reflectivity.max(0.0);
         m.normal_map = self.normal_map()?;
         Ok(m)
     }

@@ -125,7 +125,13 @@ impl Loader<'_> {
             _ => Ok(mesh),
         }
         .map_err(|err| self.err(e, err.to_string()))?;
-        Ok(mesh.transformed(xf))
+        let mesh = mesh.transformed(xf);
+        // The builder checks this too, but only here are the element and its file both known.
+        crate::scene::limits::check_bounds(&mesh.bounds()).map_err(|msg| match &m.file {
+            Some(file) => self.err(e, format!("{file}: {msg}")),
+            None => self.err(e, msg),
+        })?;
+        Ok(mesh)
     }
 
     /// Object to world: scale, then rotate about X, Y, Z (degrees), then translate.

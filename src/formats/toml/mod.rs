@@ -121,7 +121,10 @@ impl Loader<'_> {
                 framing_camera(self.builder.bounds(), s.width, s.height)
             }
         };
-        Ok(self.builder.build(camera))
+        let origin = self.origin;
+        self.builder
+            .build(camera)
+            .map_err(|e| SceneError::invalid(origin, e.element, e.message))
     }
 
     fn err(&self, element: &str, message: impl Into<String>) -> SceneError {

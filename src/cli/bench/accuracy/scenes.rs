@@ -143,6 +143,7 @@ pub fn far_occluder() -> Scene {
     )
     .expect("a valid camera");
     b.build(cam)
+        .expect("the accuracy scenes are within the value limits")
 }
 
 /// A huge ground sphere (radius 1e7, like the paper's) whose top is at (1e5, 0, -1e5), with a glass, a mirror
@@ -215,4 +216,5 @@ pub fn far_spheres() -> Scene {
     )
     .expect("a valid camera");
     b.build(cam)
+        .expect("the accuracy scenes are within the value limits")
 }
