@@ -3,20 +3,10 @@
 
 mod common;
 
-use std::path::Path;
 use std::process::Command;
 
 fn lumis() -> Command {
     Command::new(env!("CARGO_BIN_EXE_lumis"))
-}
-
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 #[test]
@@ -28,7 +18,10 @@ fn default_scene_renders_small_from_any_folder() {
         .output()
         .unwrap();
     common::cli::assert_ok(&out);
-    assert_eq!(files_in(dir.path()), ["out.exr", "out.png"]);
+    assert_eq!(
+        common::files::dir_entries(dir.path()),
+        ["out.exr", "out.png"]
+    );
     let png = image::open(dir.path().join("out.png")).unwrap();
     assert_eq!((png.width(), png.height()), (64, 36));
 }
@@ -56,7 +49,7 @@ fn render_subcommand_writes_the_requested_format_and_prints_a_summary() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "stderr: {stderr}");
-    assert_eq!(files_in(dir.path()), ["a.png"]);
+    assert_eq!(common::files::dir_entries(dir.path()), ["a.png"]);
     for needle in [
         "time: load",
         "rays:",
@@ -90,7 +83,7 @@ fn broken_scene_exits_non_zero_names_path_and_line_and_writes_nothing() {
     assert!(stderr.contains("line 3"), "no line in: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(
-        files_in(dir.path()),
+        common::files::dir_entries(dir.path()),
         ["broken.toml"],
         "no output may be left behind"
     );
@@ -113,7 +106,7 @@ fn missing_scene_and_bad_output_extension_fail_cleanly() {
         .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("x.jpg"));
-    assert!(files_in(dir.path()).is_empty());
+    assert!(common::files::dir_entries(dir.path()).is_empty());
 }
 
 #[test]
@@ -173,7 +166,7 @@ fn out_of_range_flags_fail_before_rendering() {
             "{args:?}: {stderr}"
         );
     }
-    assert!(files_in(dir.path()).is_empty());
+    assert!(common::files::dir_entries(dir.path()).is_empty());
 }
 
 #[test]
@@ -196,5 +189,8 @@ fn info_describes_a_scene_without_rendering() {
     ] {
         assert!(stdout.contains(needle), "missing {needle:?} in {stdout}");
     }
-    assert!(files_in(dir.path()).is_empty(), "info must not write files");
+    assert!(
+        common::files::dir_entries(dir.path()).is_empty(),
+        "info must not write files"
+    );
 }

@@ -1,7 +1,6 @@
 //! Round trip of `output::write_exr` through an independent reader (the exr crate), extension
 //! dispatch, and the atomic-write guarantees on failure. PNG encoding: `png_output.rs`.
 
-use std::path::Path;
 
 use exr::prelude::{AttributeValue, Blocks, Compression, FlatSamples, Text};
 use lumis::camera::Camera;
@@ -92,22 +91,13 @@ fn row_times_m44f(p: [f32; 4], m: &[f32; 16]) -> [f32; 4] {
     out
 }
 
-fn dir_entries(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 fn write_and_read(float_rgba: bool) -> (Film, FlatImage) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("out.exr");
     let film = film();
     write_exr(&path, &film, &camera(), &meta(float_rgba)).unwrap();
     assert_eq!(
-        dir_entries(dir.path()),
+        common::files::dir_entries(dir.path()),
         ["out.exr"],
         "temp file left behind"
     );
@@ -268,7 +258,7 @@ fn missing_directory_fails_without_leftovers() {
     let err = write_exr(&path, &film(), &camera(), &meta(false)).unwrap_err();
     assert!(matches!(err, OutputError::CreateTemp { .. }), "{err:?}");
     assert!(err.to_string().contains(&*path.to_string_lossy()), "{err}");
-    assert!(dir_entries(dir.path()).is_empty());
+    assert!(common::files::dir_entries(dir.path()).is_empty());
 }
 
 #[test]
@@ -282,8 +272,8 @@ fn directory_target_fails_without_leftovers() {
     ] {
         let err = result.unwrap_err();
         assert!(matches!(err, OutputError::Persist { .. }), "{err:?}");
-        assert_eq!(dir_entries(dir.path()), ["sub"]);
-        assert!(dir_entries(&target).is_empty());
+        assert_eq!(common::files::dir_entries(dir.path()), ["sub"]);
+        assert!(common::files::dir_entries(&target).is_empty());
     }
 }
 
@@ -312,7 +302,7 @@ fn failed_encoding_leaves_existing_file_intact() {
         assert_eq!(std::fs::read(&path).unwrap(), b"previous render");
     }
     assert_eq!(
-        dir_entries(dir.path()),
+        common::files::dir_entries(dir.path()),
         ["old.exr", "old.png", "tall.png", "wide.exr"]
     );
 }
@@ -324,7 +314,7 @@ fn overwrite_replaces_existing_file() {
     std::fs::write(&path, b"previous render").unwrap();
     write_exr(&path, &film(), &camera(), &meta(true)).unwrap();
     assert_eq!(read_exr(&path).layer_data[0].size.0, W as usize);
-    assert_eq!(dir_entries(dir.path()), ["out.exr"]);
+    assert_eq!(common::files::dir_entries(dir.path()), ["out.exr"]);
 }
 
 #[test]
@@ -362,5 +352,8 @@ fn extension_dispatch() {
         assert!(matches!(err, OutputError::UnsupportedExtension { .. }));
         assert!(err.to_string().contains(name), "{err}");
     }
-    assert_eq!(dir_entries(dir.path()), ["a.EXR", "b.Exr", "c.PNG"]);
+    assert_eq!(
+        common::files::dir_entries(dir.path()),
+        ["a.EXR", "b.Exr", "c.PNG"]
+    );
 }

@@ -6,6 +6,7 @@
 
 #![cfg(unix)]
 
+mod common;
 #[path = "support_io/mod.rs"]
 mod support;
 

@@ -2,6 +2,7 @@
 //! and no temporary file behind; no output may be a file the run reads or another output;
 //! `hits` arrays must be named `.npy`; stale temporary files of killed runs are cleaned up.
 
+mod common;
 #[path = "support_io/mod.rs"]
 mod support;
 

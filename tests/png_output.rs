@@ -1,20 +1,12 @@
 //! `output::write_png` read back with the image crate: size, colour type, the code values of
 //! both display transforms (sRGB curve, plain clamp) and exposure.
 
-use std::path::Path;
+mod common;
+
 
 use lumis::film::{Film, PixelAov};
 use lumis::math::Vec4;
 use lumis::output::{DisplayTransform, OutputError, write_png};
-
-fn dir_entries(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
 
 #[test]
 fn png_srgb_encoding_and_exposure() {
@@ -49,7 +41,7 @@ fn png_srgb_encoding_and_exposure() {
     assert_eq!(row0, [255, 255, 0, 188, 255]);
     // -1 stop halves them: 1.0 -> 0.5 -> 188.
     assert_eq!(read_back(-1.0).get_pixel(1, 0).0, [188, 188, 188]);
-    assert_eq!(dir_entries(dir.path()), ["out.png"]);
+    assert_eq!(common::files::dir_entries(dir.path()), ["out.png"]);
 
     let err = write_png(&path, &film, f32::NAN, DisplayTransform::Clamp).unwrap_err();
     assert!(matches!(err, OutputError::BadExposure { .. }), "{err:?}");

@@ -8,6 +8,8 @@
 //! of a class another branch fixes are marked with their issue item ([`KNOWN_ITEMS`]); once
 //! that branch is merged, deleting the item from the list makes them count again.
 
+#[path = "../common/mod.rs"]
+mod common;
 mod mutate;
 mod run;
 mod seeds;

@@ -1,8 +1,8 @@
 //! Running one case: its directory, the binary under a timeout, and the verdict.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 use exr::prelude::{FlatSamples, ReadChannels, ReadLayers, read};
 
@@ -92,29 +92,8 @@ impl<'a> Run<'a> {
 
     /// Exit code (`None`: killed by a signal) and stderr, or `None` on timeout.
     fn run(&self) -> Option<(Option<i32>, String)> {
-        let err_path = self.dir.join("stderr.txt");
-        let mut child = Command::new(env!("CARGO_BIN_EXE_lumis"))
-            .args(&self.case.args)
-            .current_dir(&self.dir)
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(std::fs::File::create(&err_path).unwrap())
-            .spawn()
-            .unwrap();
-        let start = Instant::now();
-        let status = loop {
-            if let Some(s) = child.try_wait().unwrap() {
-                break s;
-            }
-            if start.elapsed() > TIMEOUT {
-                let _ = child.kill();
-                let _ = child.wait();
-                return None;
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        };
-        let stderr = String::from_utf8_lossy(&std::fs::read(&err_path).unwrap()).into_owned();
-        Some((status.code(), stderr))
+        crate::common::cli::run_limited(&self.dir, &self.case.args, TIMEOUT)
+            .map(|r| (r.status.code(), r.stderr))
     }
 
     /// The issue item whose branch owns a failure like this one, if any.

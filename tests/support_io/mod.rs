@@ -3,10 +3,9 @@
 
 #![allow(dead_code)]
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitStatus, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, ExitStatus};
+use std::time::Duration;
 
 /// What a run of the binary did.
 pub struct Run {
@@ -39,37 +38,12 @@ impl Run {
 
 /// Runs `lumis ARGS` in `dir` with no stdin; kills it and fails the test after `limit`.
 pub fn lumis_in(dir: &Path, args: &[&str], limit: Duration) -> Run {
-    let start = Instant::now();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_lumis"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // Read stderr on a thread so a chatty child cannot block on a full pipe.
-    let mut pipe = child.stderr.take().unwrap();
-    let reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        let _ = pipe.read_to_string(&mut s);
-        s
-    });
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("lumis {args:?} hung: killed after {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
+    let run = crate::common::cli::run_limited(dir, args, limit)
+        .unwrap_or_else(|| panic!("lumis {args:?} hung: killed after {limit:?}"));
     Run {
-        status,
-        stderr: reader.join().unwrap(),
-        elapsed: start.elapsed(),
+        status: run.status,
+        stderr: run.stderr,
+        elapsed: run.elapsed,
     }
 }
 
