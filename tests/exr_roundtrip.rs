@@ -1,7 +1,6 @@
 //! Round trip of `output::write_exr` through an independent reader (the exr crate), extension
 //! dispatch, and the atomic-write guarantees on failure. PNG encoding: `png_output.rs`.
 
-
 use exr::prelude::{AttributeValue, Blocks, Compression, FlatSamples, Text};
 use lumis::camera::Camera;
 use lumis::film::{Film, PixelAov};

@@ -3,7 +3,6 @@
 
 mod common;
 
-
 use lumis::film::{Film, PixelAov};
 use lumis::math::Vec4;
 use lumis::output::{DisplayTransform, OutputError, write_png};
