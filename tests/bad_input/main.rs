@@ -102,11 +102,21 @@ fn cases(repo: &Path) -> Vec<Case> {
     let seeds = seeds::seeds(repo);
     let all: BTreeMap<&'static str, Vec<u8>> =
         seeds.iter().map(|s| (s.name, s.bytes.clone())).collect();
-    let mut rng = Rng(14);
+    // CI runs the default ~300 cases; a deeper search sets another seed and a scale, e.g.
+    // `LUMIS_BAD_INPUT_SEED=7 LUMIS_BAD_INPUT_SCALE=7 cargo test --test bad_input` (~2,000).
+    let env = |key: &str, default: u64| {
+        std::env::var(key)
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    let mut rng = Rng(env("LUMIS_BAD_INPUT_SEED", 14));
+    let scale = env("LUMIS_BAD_INPUT_SCALE", 1).clamp(1, 100) as usize;
     let mut out = Vec::new();
     let mut k = 0;
     for seed in &seeds {
-        let mut ms = mutate::mutations(&seed.bytes, seed.text, &mut rng, (5, 8, 14));
+        let counts = (5 * scale, 8 * scale, 14 * scale);
+        let mut ms = mutate::mutations(&seed.bytes, seed.text, &mut rng, counts);
         if seed.name != "scene.toml" && seed.name != "scene.scn" {
             ms.push(mutate::missing());
         }
