@@ -14,6 +14,7 @@
 pub mod builtin;
 mod error;
 pub mod gltf;
+pub mod guard;
 pub mod obj;
 mod resolver;
 pub mod scn;
