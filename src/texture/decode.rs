@@ -58,32 +58,31 @@ pub(crate) fn decode_bounded(bytes: &[u8]) -> Result<DynamicImage, String> {
 mod tests {
     use super::*;
 
-    /// A PNG of `w x h` grey pixels with an empty (truncated) image data stream.
+    /// A PNG signature, a header declaring `w x h` RGBA texels and an empty image data chunk:
+    /// enough for a decoder to learn the size, with no pixels behind it.
     fn png_header(w: u32, h: u32) -> Vec<u8> {
-        let mut ihdr = b"IHDR".to_vec();
-        ihdr.extend(w.to_be_bytes());
+        let mut ihdr = w.to_be_bytes().to_vec();
         ihdr.extend(h.to_be_bytes());
-        ihdr.extend([8, 0, 0, 0, 0]);
+        ihdr.extend([8, 6, 0, 0, 0]);
         let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
-        png.extend(13u32.to_be_bytes());
-        png.extend(&ihdr);
-        png.extend(crc32(&ihdr).to_be_bytes());
-        png
-    }
-
-    fn crc32(data: &[u8]) -> u32 {
-        let mut crc = !0u32;
-        for &b in data {
-            crc ^= u32::from(b);
-            for _ in 0..8 {
-                crc = if crc & 1 == 1 {
-                    (crc >> 1) ^ 0xEDB8_8320
-                } else {
-                    crc >> 1
-                };
-            }
+        for (kind, data) in [(b"IHDR", ihdr), (b"IDAT", Vec::new())] {
+            let body = [&kind[..], &data].concat();
+            let crc = body.iter().fold(!0u32, |mut c, &b| {
+                c ^= u32::from(b);
+                for _ in 0..8 {
+                    c = if c & 1 == 1 {
+                        (c >> 1) ^ 0xEDB8_8320
+                    } else {
+                        c >> 1
+                    };
+                }
+                c
+            });
+            png.extend((data.len() as u32).to_be_bytes());
+            png.extend(&body);
+            png.extend((!crc).to_be_bytes());
         }
-        !crc
+        png
     }
 
     #[test]

@@ -10,6 +10,7 @@
 
 pub mod exr;
 pub mod files;
+pub mod hostile;
 pub mod rays;
 pub mod render;
 pub mod scenes;
