@@ -2,13 +2,16 @@
 //! points, and a panic hook that turns every panic into a crash, including those lumis's own
 //! guard would otherwise catch quietly (a caught panic is still a bug to fix at the root).
 
+mod harness;
+
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 /// This process's scratch folder (created once; libFuzzer's fork mode runs one per child).
-pub fn scratch() -> &'static Path {
+fn scratch() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
+        // lumis's quiet hook goes in first, so this one replaces it for every panic.
         lumis::formats::guard::install();
         std::panic::set_hook(Box::new(|info| {
             eprintln!("{info}");
@@ -20,15 +23,7 @@ pub fn scratch() -> &'static Path {
     })
 }
 
-/// Writes `bytes` to `name` in the scratch folder and returns its path.
-pub fn put(name: &str, bytes: &[u8]) -> PathBuf {
-    let path = scratch().join(name);
-    std::fs::write(&path, bytes).expect("scratch file");
-    path
-}
-
-/// Loads `path` as `lumis render` does (default options, no overrides). Any `Ok` or `Err` is
-/// fine; only a panic, a hang or runaway memory is a finding.
-pub fn load(path: &Path) {
-    let _ = lumis::formats::load_with_overrides(path, &lumis::formats::LoadOptions::default(), &[]);
+/// Runs fuzz target `target` on `data` (see [`harness::run_in`]).
+pub fn run(target: &str, data: &[u8]) {
+    harness::run_in(scratch(), target, data);
 }
