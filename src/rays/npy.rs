@@ -116,6 +116,8 @@ impl std::fmt::Display for Value {
             Value::Str(s) => write!(f, "'{s}'"),
             Value::Int(n) => write!(f, "{n}"),
             Value::Bool(b) => write!(f, "{}", if *b { "True" } else { "False" }),
+            // Python writes a one-element tuple with a trailing comma.
+            Value::Tuple(items) if items.len() == 1 => seq(f, items, "(", ",)"),
             Value::Tuple(items) => seq(f, items, "(", ")"),
             Value::List(items) => seq(f, items, "[", "]"),
             Value::Dict(items) => {
