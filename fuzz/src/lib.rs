@@ -4,6 +4,8 @@
 
 mod harness;
 
+pub use harness::TARGETS;
+
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
