@@ -6,7 +6,7 @@
 //!
 //! Statements read (the others are kept in `unknown_param`, where the converter finds `Tr`):
 //! `newmtl`, `Ka`/`Kd`/`Ks`/`Ke` (`r g b`, or one value for a grey as the MTL specification
-//! allows), `Ns`, `Ni`, `d`, `illum`, and the texture maps' file names. `#` starts a comment.
+//! allows), `Ns`, `Ni`, `d`, `illum`, and the texture maps' file names. `#` at the start of a word starts a comment.
 
 use std::path::Path;
 
@@ -21,7 +21,7 @@ pub(super) fn parse_mtl(bytes: &[u8], mtl: &Path) -> (Vec<tobj::Material>, Vec<S
     // no material and are dropped, as tobj drops them) or after a nameless one.
     let mut current: Option<tobj::Material> = None;
     for (i, raw) in text.lines().enumerate() {
-        let line = raw.split('#').next().unwrap_or("").trim();
+        let line = without_comment(raw).trim();
         let Some(key) = line.split_whitespace().next() else {
             continue;
         };
@@ -56,6 +56,15 @@ pub(super) fn parse_mtl(bytes: &[u8], mtl: &Path) -> (Vec<tobj::Material>, Vec<S
     }
     materials.extend(current);
     (materials, warnings)
+}
+
+/// `raw` up to a `#` that starts the line or follows whitespace (a `#` inside a word, as in a
+/// texture file name `tex#1.png`, is kept).
+fn without_comment(raw: &str) -> &str {
+    let starts = raw
+        .char_indices()
+        .find(|&(i, c)| c == '#' && raw[..i].chars().next_back().is_none_or(char::is_whitespace));
+    starts.map_or(raw, |(i, _)| &raw[..i])
 }
 
 /// Applies one statement `key rest` to `m`; the error says what is malformed.
@@ -132,7 +141,7 @@ mod tests {
     #[test]
     fn malformed_statements_warn_with_their_line_and_the_rest_loads() {
         let text = "Kd 1 1 1\nnewmtl a\nKd 1\nKs 0.5 0.25\nNs\nillum 300\nKe 1 2 3 # glow\n\
-                    newmtl\nKd 0 0 0\nnewmtl b\nd 0.5\nmap_Kd  my tex.png \nTr 0.1\n";
+                    newmtl\nKd 0 0 0\nnewmtl b\nd 0.5\nmap_Kd  my tex#1.png \nTr 0.1\n";
         let (m, w) = parse_mtl(text.as_bytes(), Path::new("lib.mtl"));
         assert_eq!(m.len(), 2);
         assert_eq!(m[0].name, "a");
@@ -140,7 +149,7 @@ mod tests {
         assert_eq!(m[0].specular, None);
         assert_eq!(m[0].emissive, Some([1.0, 2.0, 3.0]));
         assert_eq!(m[1].dissolve, Some(0.5));
-        assert_eq!(m[1].diffuse_texture.as_deref(), Some("my tex.png"));
+        assert_eq!(m[1].diffuse_texture.as_deref(), Some("my tex#1.png"));
         assert_eq!(m[1].unknown_param["Tr"], "0.1");
         assert_eq!(w.len(), 4, "{w:?}");
         for (warning, line) in w.iter().zip([4, 5, 6, 8]) {
