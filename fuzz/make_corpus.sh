@@ -109,7 +109,7 @@ sphere 0 0 0 1 FlatColor 0.6 0.2 0.9 null
 sphere 2 0 0 1 ShinyColor 0.6 0.2 0.9 100 0.5 null
 sphere -2 0 0 1 Glass 1.5 50 null
 triangle 0 0 -1 1 0 -1 0 1 -1 FlatColor 1 1 1 null
-model tri.m 1 0 0 -3
+model tri.m 1 0 0 -3 FlatColor 0.5 0.5 0.5 null
 """)
 for f in sorted((paper / "scenes").glob("*.scn")) if paper.is_dir() else []:
     put("scn", f.name, re.sub(r"(?m)^(\s*model\s+)\S+", r"\1tri.m", f.read_text()))

@@ -59,7 +59,8 @@ pub fn run_in(dir: &Path, target: &str, data: &[u8]) {
         }
         "m" => {
             put("mesh.m", data);
-            load(&put("scene.scn", b"model mesh.m 1 0 0 -5\n"));
+            let scn = b"model mesh.m 1 0 0 -5 FlatColor 0.6 0.2 0.9 null\n";
+            load(&put("scene.scn", scn));
         }
         "npy" => {
             let _ = lumis::rays::read_rays(&put("rays.npy", data));
