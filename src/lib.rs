@@ -16,6 +16,7 @@ pub mod light;
 pub mod material;
 pub mod math;
 pub mod output;
+pub mod rays;
 pub mod render;
 pub mod rng;
 pub mod scene;

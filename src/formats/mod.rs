@@ -14,6 +14,7 @@
 pub mod builtin;
 mod error;
 pub mod gltf;
+pub mod guard;
 mod inputs;
 pub mod obj;
 mod regular;

@@ -86,7 +86,7 @@ impl ImageTexture {
             path: path.to_path_buf(),
             message,
         };
-        let img = ::image::load_from_memory(bytes).map_err(|e| decode_err(e.to_string()))?;
+        let img = super::decode::decode_bounded(bytes).map_err(decode_err)?;
         let rgb = img.to_rgb8();
         let lut: [f32; 256] = std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0));
         let texels = rgb

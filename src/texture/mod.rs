@@ -15,6 +15,7 @@
 //! becomes `Texture::Marble { a: (0.4, 0.3, 0.2), b: (0.6, 0.7, 0.8), scale: 0.5 }
 //! .from_scn_scale()` and `NormalMap { scale: 0.5, amount: 0.25 }`.
 
+mod decode;
 mod image;
 mod normal_map;
 pub mod perlin;

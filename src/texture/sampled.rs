@@ -13,6 +13,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use super::decode::decode_bounded;
 use super::image::srgb_to_linear;
 use crate::math::{Vec2, Vec3, Vec4};
 
@@ -31,10 +32,6 @@ impl std::fmt::Debug for Texels {
     }
 }
 
-/// Largest image side accepted, so a header cannot ask for an absurd allocation (the `image`
-/// crate checks the rest against the real data).
-const MAX_SIDE: u32 = 16_384;
-
 impl Texels {
     /// An image from RGBA8 texels in rows from the top; `None` unless the sizes agree and the
     /// image is non-empty.
@@ -51,19 +48,7 @@ impl Texels {
     /// Decodes PNG or JPEG `bytes` (sniffed from the content) to RGBA8: 16-bit channels are
     /// rounded to 8 bits, grey and grey-alpha images are expanded, missing alpha is 255.
     pub fn decode(bytes: &[u8], path: &Path) -> Result<Self, String> {
-        let reader = ::image::ImageReader::new(std::io::Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| e.to_string())?;
-        let (w, h) = reader
-            .into_dimensions()
-            .map_err(|e| format!("cannot decode {}: {e}", path.display()))?;
-        if w > MAX_SIDE || h > MAX_SIDE {
-            return Err(format!(
-                "{}: {w}x{h} is larger than {MAX_SIDE} texels on a side",
-                path.display()
-            ));
-        }
-        let img = ::image::load_from_memory(bytes)
+        let img = decode_bounded(bytes)
             .map_err(|e| format!("cannot decode {}: {e}", path.display()))?
             .to_rgba8();
         let (w, h) = img.dimensions();

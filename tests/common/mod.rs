@@ -11,6 +11,7 @@
 pub mod cli;
 pub mod exr;
 pub mod files;
+pub mod hostile;
 pub mod rays;
 pub mod render;
 pub mod scenes;

@@ -20,7 +20,7 @@
 //! Ids are stored as float32, exact up to 2^24.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use npyz::WriterBuilder;
 use rayon::prelude::*;
@@ -29,10 +29,9 @@ use lumis::accel::{Hit, TraversalStats};
 use lumis::geometry::Primitive;
 use lumis::math::{Ray, Vec3};
 use lumis::output::{OutputError, StagedOutputs};
+pub use lumis::rays::{RAY_COLUMNS, read_rays};
 use lumis::scene::{Scene, World};
 
-/// Floats per input ray row.
-pub const RAY_COLUMNS: usize = 8;
 /// Floats per output hit row.
 pub const HIT_COLUMNS: usize = 9;
 /// Floats per triangle row.
@@ -45,109 +44,12 @@ pub const SPAWN_COLUMNS: usize = 6;
 /// Rays per parallel work item: large enough to amortise scheduling, small enough to balance.
 const CHUNK: usize = 1024;
 
-/// Why a ray file could not be read or a result file written. Every variant names the file.
+/// Why a result file could not be written; it names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum HitsError {
-    /// The file could not be read.
-    #[error("cannot read {}", path.display())]
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
-    /// The file is not an `.npy` array of the expected dtype, shape or order.
-    #[error("{}: {message}", path.display())]
-    Format {
-        /// The file.
-        path: PathBuf,
-        /// What was found and what was expected.
-        message: String,
-    },
-    /// One ray is unusable.
-    #[error("{}: ray {row}: {message}", path.display())]
-    BadRay {
-        /// The file.
-        path: PathBuf,
-        /// Row index (0-based).
-        row: usize,
-        /// What is wrong with it.
-        message: &'static str,
-    },
     /// Writing a result failed.
     #[error(transparent)]
     Write(#[from] OutputError),
-}
-
-/// Reads an `(N, 8)` float32 C-order `.npy` array of rays and checks every ray: finite origin,
-/// finite non-zero direction, `t_min` and `t_max` not NaN.
-pub fn read_rays(path: &Path) -> Result<Vec<[f32; RAY_COLUMNS]>, HitsError> {
-    let format = |message: String| HitsError::Format {
-        path: path.to_path_buf(),
-        message,
-    };
-    let bytes = lumis::formats::read_regular(path).map_err(|source| HitsError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let npy = npyz::NpyFile::new(&bytes[..])
-        .map_err(|e| format(format!("not a valid .npy file ({e})")))?;
-    let dtype = npy.dtype();
-    let is_f32 = matches!(&dtype, npyz::DType::Plain(ts)
-        if ts.type_char() == npyz::TypeChar::Float && ts.size_field() == 4);
-    if !is_f32 {
-        return Err(format(format!(
-            "dtype is {}; expected float32 ('<f4')",
-            dtype.descr()
-        )));
-    }
-    let shape = npy.shape().to_vec();
-    if shape.len() != 2 || shape[1] != RAY_COLUMNS as u64 {
-        return Err(format(format!(
-            "shape is {shape:?}; expected (N, {RAY_COLUMNS}): origin xyz, direction xyz, t_min, t_max"
-        )));
-    }
-    if npy.order() != npyz::Order::C {
-        return Err(format("Fortran-order array; expected C order".into()));
-    }
-    let flat: Vec<f32> = npy
-        .into_vec()
-        .map_err(|e| format(format!("truncated or unreadable data ({e})")))?;
-    let rays: Vec<[f32; RAY_COLUMNS]> = flat
-        .chunks_exact(RAY_COLUMNS)
-        .map(|c| std::array::from_fn(|i| c[i]))
-        .collect();
-    for (row, r) in rays.iter().enumerate() {
-        if let Err(message) = check_ray(r) {
-            return Err(HitsError::BadRay {
-                path: path.to_path_buf(),
-                row,
-                message,
-            });
-        }
-    }
-    Ok(rays)
-}
-
-/// Why a ray row is unusable, if it is.
-fn check_ray(r: &[f32; RAY_COLUMNS]) -> Result<(), &'static str> {
-    let dir = Vec3::new(r[3], r[4], r[5]);
-    if !Vec3::new(r[0], r[1], r[2]).is_finite() {
-        return Err("origin is not finite");
-    }
-    if dir.is_nan() {
-        return Err("direction is NaN");
-    }
-    if !dir.is_finite() {
-        return Err("direction is infinite");
-    }
-    if dir == Vec3::ZERO {
-        return Err("direction is zero");
-    }
-    if r[6].is_nan() || r[7].is_nan() {
-        return Err("t_min or t_max is NaN");
-    }
-    Ok(())
 }
 
 /// Traces every ray through `world` in parallel on the current rayon pool; row `i` of the

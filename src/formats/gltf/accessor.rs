@@ -8,8 +8,7 @@
 
 use gltf::accessor::{DataType, Dimensions};
 
-/// Most elements an accessor without a buffer view (all zeros, or sparse only) may have.
-const MAX_IMPLIED: usize = 1 << 24;
+use super::checks::MAX_IMPLIED;
 
 /// Which component types an attribute may use, after the core specification and
 /// `KHR_mesh_quantization`'s table.

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use gltf::Document;
 
 use super::super::{Resolver, SceneError};
-use super::lenient;
+use super::{checks, lenient};
 
 /// Extensions lumis understands; a file that requires any other one is refused.
 pub(super) const SUPPORTED_EXTENSIONS: &[&str] = &[
@@ -102,6 +102,7 @@ pub(super) fn parse(
             }
         }
     }
+    checks::check_elements(&json, path)?;
     let document = lenient::validate(json, path, warnings)?;
     Ok((document, blob))
 }
@@ -131,7 +132,7 @@ pub(super) fn load_buffers(
     let mut out = Vec::new();
     for buffer in doc.buffers() {
         let element = format!("buffers[{}]", buffer.index());
-        let data = match buffer.source() {
+        let mut data = match buffer.source() {
             gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
                 SceneError::invalid(
                     origin,
@@ -154,6 +155,8 @@ pub(super) fn load_buffers(
                 ),
             ));
         }
+        // Views are checked against the declared length, not against padding or extra bytes.
+        data.truncate(buffer.length());
         out.push(data);
     }
     Ok(out)

@@ -15,6 +15,7 @@
 
 mod accessor;
 mod buffers;
+mod checks;
 mod lenient;
 mod materials;
 mod nodes;
@@ -26,6 +27,7 @@ use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::path::Path;
 
+use super::guard::guarded;
 use super::{LoadOptions, Resolver, SceneError, read_file, read_file_bytes};
 use crate::geometry::Mesh;
 use crate::scene::{Scene, SceneBuilder, default_rig, framing_camera};
@@ -45,15 +47,13 @@ pub fn load_gltf_bytes(
     resolver: Resolver<'_>,
     options: &LoadOptions,
 ) -> Result<Scene, SceneError> {
-    // The checks in `buffers` cover every slice the crate takes; this is the last line of
-    // defence should a hostile file find a path they missed.
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        load_inner(bytes, origin, resolver, options)
-    }))
-    .unwrap_or_else(|_| {
+    // The checks in `buffers` and `checks` cover every slice and unwrap of the crate's that
+    // lumis reaches; this is the last line of defence should a hostile file find a path they
+    // missed: the error names the file, and no panic text is printed.
+    guarded(|| load_inner(bytes, origin, resolver, options)).unwrap_or_else(|message| {
         Err(SceneError::Gltf {
             path: origin.to_path_buf(),
-            message: "the glTF reader failed on this file".into(),
+            message,
         })
     })
 }

@@ -158,6 +158,17 @@ pub(super) fn primitive_mesh(
         MeshError::IndexOutOfRange { .. } => err(format!("{index_name}: {e}")),
         MeshError::AttributeCount { .. } | MeshError::BadAttribute { .. } => err(e.to_string()),
     };
+    // Checked before the tangents, which index the vertex arrays by these triangles (found by
+    // fuzzing: a TANGENT accessor with an out-of-range index used to panic here).
+    for (tri, t) in triangles.iter().enumerate() {
+        if let Some(&index) = t.iter().find(|&&i| i as usize >= positions.len()) {
+            return Err(counts(MeshError::IndexOutOfRange {
+                tri,
+                index,
+                count: positions.len(),
+            }));
+        }
+    }
     let tangents = if material.needs_tangents {
         let set = material
             .params

@@ -16,6 +16,7 @@
 //! ```
 
 mod mtl;
+mod mtl_parse;
 mod scan;
 
 use std::cell::RefCell;
@@ -23,12 +24,14 @@ use std::collections::HashSet;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
+use super::guard::guarded;
 use super::{LoadOptions, Resolver, SceneError, read_file, read_file_bytes};
 use crate::geometry::{Mesh, Triangulation, triangulate_polygon};
 use crate::material::Material;
 use crate::math::{Vec2, Vec3};
 use crate::scene::{Scene, SceneBuilder, UpAxis, default_rig, framing_camera};
 use mtl::MtlConverter;
+use mtl_parse::parse_mtl;
 use scan::scan;
 
 /// One object (or group, or run of faces with one `usemtl`) of an OBJ file.
@@ -87,14 +90,19 @@ pub fn load_obj(
             return Err(tobj::LoadError::OpenFileFailed);
         };
         let mtl = folder.join(name);
-        let loaded = resolver(&mtl).map_err(|e| e.to_string()).and_then(|b| {
-            tobj::load_mtl_buf(&mut b.as_slice()).map_err(|e| format!("invalid MTL: {e}"))
-        });
-        match loaded {
-            Ok((materials, map)) => {
+        match resolver(&mtl) {
+            Ok(bytes) => {
+                let (materials, warnings) = parse_mtl(&bytes, &mtl);
+                mtl_warnings.borrow_mut().extend(warnings);
                 mtl_sources
                     .borrow_mut()
                     .extend(std::iter::repeat_n(mtl.clone(), materials.len()));
+                // Later definitions of a name win, as in tobj's own MTL reader.
+                let map = materials
+                    .iter()
+                    .enumerate()
+                    .map(|(i, m)| (m.name.clone(), i))
+                    .collect();
                 Ok((materials, map))
             }
             Err(e) => {
@@ -108,11 +116,10 @@ pub fn load_obj(
             }
         }
     };
-    // tobj indexes its own buffers; a panic there on hostile input must not take the caller down.
-    let loaded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        tobj::load_obj_buf(&mut scanned.text.as_bytes(), &options, load_mtl)
-    }))
-    .map_err(|_| obj_err("the OBJ parser failed on this file".into()))?;
+    // The scan has checked every index tobj will use; should a hostile file still find a
+    // panic in tobj, it becomes this file's error, printed without the panic text.
+    let loaded = guarded(|| tobj::load_obj_buf(&mut scanned.text.as_bytes(), &options, load_mtl))
+        .map_err(obj_err)?;
     let (models, tobj_materials) = loaded.map_err(|e| obj_err(e.to_string()))?;
     warnings.extend(mtl_warnings.into_inner());
     let tobj_materials = tobj_materials.unwrap_or_default();

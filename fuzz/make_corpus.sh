@@ -1,0 +1,138 @@
+#!/usr/bin/env bash
+# Seed corpus for the fuzz targets, made from the repository's own scenes and assets (and the
+# paper's scenes when ../shared or LUMIS_PAPER_SCENES has them), rewritten so each seed stands
+# alone in the fuzz targets' scratch folder: mesh paths point at the file the target puts there,
+# glTF buffers become data URIs, GLBs are packed from the glTF assets, .m meshes are converted
+# from the OBJ assets and ray files are written from a seeded generator.
+#   fuzz/make_corpus.sh [OUT]     (default: fuzz/corpus; each target's seeds in OUT/<target>)
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+repo="$(dirname "$here")"
+out="${1:-$here/corpus}"
+paper="${LUMIS_PAPER_SCENES:-$repo/../shared/paper-scenes}"
+mkdir -p "$out"/{toml,obj,mtl,gltf,glb,scn,m,npy}
+
+python3 - "$repo" "$out" "$paper" <<'PY'
+import base64, json, os, random, re, struct, sys
+from pathlib import Path
+
+repo, out, paper = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
+LIMIT = 16 * 1024  # seeds stay small: libFuzzer mutates small inputs faster
+
+
+def put(target, name, data):
+    if isinstance(data, str):
+        data = data.encode()
+    if len(data) <= LIMIT:
+        (out / target / name).write_bytes(data)
+
+
+# TOML scenes: mesh files point at the triangle the target writes beside the scene.
+for f in sorted((repo / "scenes").glob("*.toml")):
+    put("toml", f.name, re.sub(r'file = "[^"]*"', 'file = "tri.obj"', f.read_text()))
+
+# OBJ and MTL assets as they are (the OBJ target writes m.mtl beside each model).
+for f in sorted((repo / "assets").glob("*.obj")):
+    put("obj", f.name, re.sub(r"(?m)^mtllib .*$", "mtllib m.mtl", f.read_text()))
+for f in sorted((repo / "assets").glob("*.mtl")):
+    put("mtl", f.name, re.sub(r"(?m)^(newmtl) .*$", r"\1 red", f.read_text(), count=1))
+
+
+def embedded(gltf_path):
+    """The glTF document with every relative buffer and image URI inlined as a data URI."""
+    doc = json.loads(gltf_path.read_text())
+    for item in doc.get("buffers", []) + doc.get("images", []):
+        uri = item.get("uri")
+        if uri and not uri.startswith("data:"):
+            f = gltf_path.parent / uri
+            if not f.is_file():
+                return None
+            mime = "image/png" if uri.endswith(".png") else "application/octet-stream"
+            item["uri"] = f"data:{mime};base64," + base64.b64encode(f.read_bytes()).decode()
+    return doc
+
+
+def glb(doc):
+    """Packs a document with one data-URI buffer as GLB: JSON chunk, then the BIN chunk."""
+    buffers = doc.get("buffers", [])
+    bin_chunk = b""
+    if len(buffers) == 1 and buffers[0].get("uri", "").startswith("data:"):
+        bin_chunk = base64.b64decode(buffers[0].pop("uri").split(",", 1)[1])
+    text = json.dumps(doc, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 4)
+    bin_chunk += b"\0" * (-len(bin_chunk) % 4)
+    body = struct.pack("<II", len(text), 0x4E4F534A) + text
+    if bin_chunk:
+        body += struct.pack("<II", len(bin_chunk), 0x004E4942) + bin_chunk
+    return b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body
+
+
+for f in sorted((repo / "assets" / "gltf").rglob("*.gltf")):
+    try:
+        doc = embedded(f)
+    except (ValueError, OSError):
+        continue  # the deliberately broken assets (invalid JSON) are no use as seeds
+    if doc is None:
+        continue
+    put("gltf", f.name, json.dumps(doc, indent=1))
+    put("glb", f.stem + ".glb", glb(doc))
+for f in sorted((repo / "assets" / "gltf").rglob("*.glb")):
+    put("glb", f.name, f.read_bytes())
+
+# .m meshes converted from the OBJ assets (positions and triangles only), plus the paper's.
+for f in sorted((repo / "assets").glob("*.obj")):
+    lines, nv = [], 0
+    for raw in f.read_text().splitlines():
+        w = raw.split()
+        if w[:1] == ["v"]:
+            nv += 1
+            lines.append(f"Vertex {nv} {' '.join(w[1:4])}")
+        elif w[:1] == ["f"] and len(w) >= 4:
+            idx = [c.split("/")[0] for c in w[1:]]
+            for k in range(1, len(idx) - 1):
+                lines.append(f"Face {len(lines) + 1} {idx[0]} {idx[k]} {idx[k + 1]}")
+    put("m", f.stem + ".m", "\n".join(lines) + "\n")
+for f in sorted((paper / "models").glob("*.m")) if paper.is_dir() else []:
+    put("m", f.name, f.read_bytes())
+
+# .scn scenes: the paper's small ones with their models pointed at the target's tri.m, and one
+# written here that uses every statement the reader knows.
+put("scn", "every_statement.scn", """cameraPosition 0 0 10
+cameraLookAt 0 0 0
+cameraUp 0 1 0
+cameraScreenWidth 12
+dispersion -1
+depthComplexity 2
+maxReflections 3
+light 5 5 5 0.9
+sphere 0 0 0 1 FlatColor 0.6 0.2 0.9 null
+sphere 2 0 0 1 ShinyColor 0.6 0.2 0.9 100 0.5 null
+sphere -2 0 0 1 Glass 1.5 50 null
+triangle 0 0 -1 1 0 -1 0 1 -1 FlatColor 1 1 1 null
+model tri.m 1 0 0 -3 FlatColor 0.5 0.5 0.5 null
+""")
+for f in sorted((paper / "scenes").glob("*.scn")) if paper.is_dir() else []:
+    put("scn", f.name, re.sub(r"(?m)^(\s*model\s+)\S+", r"\1tri.m", f.read_text()))
+
+# Rays: (N, 8) float32 arrays in .npy versions 1 and 2, and an empty one.
+rng = random.Random(14)
+
+
+def npy(rows, version=1, cols=8):
+    header = "{'descr': '<f4', 'fortran_order': False, 'shape': (%d, %d), }" % (len(rows), cols)
+    prefix = 10 if version == 1 else 12
+    header += " " * (-(prefix + len(header) + 1) % 64) + "\n"
+    size = struct.pack("<H" if version == 1 else "<I", len(header))
+    data = b"".join(struct.pack(f"<{cols}f", *r) for r in rows)
+    return b"\x93NUMPY" + bytes([version, 0]) + size + header.encode() + data
+
+
+rays = [[rng.uniform(-1, 1), rng.uniform(-1, 1), 5, rng.uniform(-1, 1), rng.uniform(-1, 1), -1,
+         0, float("inf")] for _ in range(4)]
+put("npy", "rays_v1.npy", npy(rays))
+put("npy", "rays_v2.npy", npy(rays, version=2))
+put("npy", "empty.npy", npy([]))
+PY
+for t in toml obj mtl gltf glb scn m npy; do
+    printf '%s: %s seeds\n' "$t" "$(ls "$out/$t" | wc -l)"
+done
