@@ -3,6 +3,7 @@
 //! several tile counts, thread counts, scenes and layers; and tiles that do not belong
 //! together are refused with an error naming the tile.
 
+mod hostile;
 mod identical;
 mod refused;
 
