@@ -45,7 +45,7 @@ show_logs() {
     for f in "$1"/logs/*.log; do
         [ -f "$f" ] || continue
         echo "---- $f"
-        tail -40 "$f"
+        tail -n 40 "$f"
     done
 }
 
@@ -124,7 +124,7 @@ refuses() {
         fail "lumis merge accepted $what"
     fi
     [ ! -e "$out" ] || fail "lumis merge refused $what but wrote $out"
-    echo "test_slurm: lumis merge refuses $what: $(head -1 "$work/refused.err")"
+    echo "test_slurm: lumis merge refuses $what: $(head -n 1 "$work/refused.err")"
 }
 "$lumis" render "$scene" "${flags[@]}" --tile "2/$tiles" --seed 1 --quiet \
     -o "$work/foreign_tile_2.exr" || fail "rendering a tile with another seed failed"

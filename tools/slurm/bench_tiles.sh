@@ -4,7 +4,7 @@
 #
 #   bash tools/slurm/bench_tiles.sh SCENE [-- LUMIS_RENDER_FLAG...]
 #
-# Default size 1920x1080 (flags after -- come later on the command line and so override it).
+# Default size 1920x1080; --width and --height after -- replace it.
 # Environment: LUMIS (binary; default this checkout's target/release/lumis, refused when older
 # than the sources, like the other benchmarks in tools/), TILE_COUNTS (default "1 2 4 8"),
 # LUMIS_CPUS_PER_TASK (default: every CPU of the machine, so each tile has the whole node and
@@ -14,7 +14,9 @@
 # Columns: wall = submit to the merge's end (merge.log); tile = the task's wall time inside
 # its sbatch script (render_I.log), mean and max; load+build = lumis's own summary, mean per
 # tile (the work every tile repeats); render = the sum of lumis's render phases; merge = the
-# merge job's wall time; same bytes = the merged EXR against a render without tiles.
+# merge job's wall time; Slurm between jobs = wall minus every job's own time (only when the
+# jobs run one at a time, see above); same bytes = the merged EXR against a render without
+# tiles.
 # Needs root (or an installed Slurm), like tools/test_slurm.sh. Progress goes to stderr.
 set -euo pipefail
 
@@ -33,9 +35,18 @@ if [ "$#" -gt 0 ]; then
     [ "$1" = "--" ] || { echo "bench_tiles.sh: flags go after --" >&2; exit 2; }
     shift
 fi
-flags=(--width 1920 --height 1080 "$@")
+# 1920x1080 unless the flags give a size (lumis refuses a flag given twice).
+flags=("$@")
+case " $* " in
+    *" --width"* | *" --height"*) ;;
+    *) flags=(--width 1920 --height 1080 "$@") ;;
+esac
 read -r -a counts <<< "${TILE_COUNTS:-1 2 4 8}"
 cpus=${LUMIS_CPUS_PER_TASK:-$(nproc)}
+# With a whole node per tile the jobs run one after another, and the wall time not spent in
+# them is Slurm's: queueing, launching, and starting the merge once the array is done.
+serial=0
+[ "$cpus" -lt "$(nproc)" ] || serial=1
 
 if [ -n "${LUMIS:-}" ]; then
     lumis=$(realpath -- "$(command -v -- "$LUMIS")")
@@ -73,12 +84,12 @@ t1=$(date +%s.%N)
 # The summary's phase times of one log, "load build render write"; the last attempt wins.
 phases() {
     local n='\([0-9.]*\)s'
-    sed -n "s/^time: load $n, build $n, render $n, write $n\$/\\1 \\2 \\3 \\4/p" "$1" | tail -1
+    sed -n "s/^time: load $n, build $n, render $n, write $n\$/\\1 \\2 \\3 \\4/p" "$1" | tail -n 1
 }
 read -r ref_load ref_build ref_render _ <<< "$(phases "$work/whole.log") 0 0 0 0"
 # The value of key $2 in the last lumis-slurm line of log $1.
 field() {
-    grep '^lumis-slurm: task=' "$1" | tail -1 | tr ' ' '\n' | sed -n "s/^$2=//p"
+    grep '^lumis-slurm: task=' "$1" | tail -n 1 | tr ' ' '\n' | sed -n "s/^$2=//p"
 }
 
 rows=()
@@ -91,7 +102,7 @@ for n in "${counts[@]}"; do
         -- "${flags[@]}")
     merge_id=$(sed -n 's/^merge=//p' <<< "$ids")
     if ! cluster_wait_job "$merge_id" 7200; then
-        tail -20 "${out%.exr}.tiles"/logs/*.log >&2
+        tail -n 20 "${out%.exr}.tiles"/logs/*.log >&2
         echo "bench_tiles.sh: $n tiles: merge $CLUSTER_JOB_STATES" >&2
         exit 1
     fi
@@ -105,20 +116,26 @@ for n in "${counts[@]}"; do
     same=no
     cmp -s "$out" "$work/whole.exr" && same=yes
     rows+=("$(printf '%s\n' "${per_tile[@]}" | awk -v n="$n" -v wall_s="$t_submit" \
-        -v wall_e="$merge_end" -v merge="$merge_s" -v same="$same" '
+        -v wall_e="$merge_end" -v merge="$merge_s" -v same="$same" -v serial="$serial" '
         { task += $1; if ($1 > max) max = $1; lb += $2 + $3; render += $4 }
-        END { printf "| %d | %.2f | %.2f / %.2f | %.3f | %.2f | %.2f | %s |\n",
-              n, wall_e - wall_s, task / n, max, lb / n, render, merge, same }')")
+        END {
+            wall = wall_e - wall_s
+            gaps = serial ? sprintf("%.2f", wall - task - merge) : "-"
+            printf "| %d | %.2f | %.2f / %.2f | %.3f | %.2f | %.2f | %s | %s |\n",
+                n, wall, task / n, max, lb / n, render, merge, gaps, same }')")
 done
 
+order="tiles run one after another"
+[ "$serial" = 1 ] || order="up to $(($(nproc) / cpus)) tiles at a time"
 echo "Scene \`$(basename "$scene")\`, ${flags[*]}, $(nproc) CPUs, $cpus per tile task" \
-    "(tiles run one after another), $(hostname -s)."
+    "($order), $(hostname -s)."
 echo
 awk -v w="$t0" -v e="$t1" -v l="$ref_load" -v b="$ref_build" -v r="$ref_render" 'BEGIN {
     printf "Without Slurm or tiles: %.2f s wall, load+build %.3f s, render %.2f s.\n",
         e - w, l + b, r }'
 echo
 echo "| tiles | wall, submit to merged (s) | tile task mean / max (s)" \
-    "| load+build per tile (s) | render, sum over tiles (s) | merge (s) | same bytes |"
-echo "|---:|---:|---:|---:|---:|---:|:---:|"
+    "| load+build per tile (s) | render, sum over tiles (s) | merge (s)" \
+    "| Slurm between jobs (s) | same bytes |"
+echo "|---:|---:|---:|---:|---:|---:|---:|:---:|"
 printf '%s\n' "${rows[@]}"
