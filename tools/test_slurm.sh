@@ -68,8 +68,11 @@ else
         (cd "$repo" && cargo build --release --locked)
     fi
 fi
-"$lumis" render --help | grep -q -- '--tile' ||
+# Read whole (not `| grep -q`, whose early exit can kill lumis with SIGPIPE under pipefail).
+help=$("$lumis" render --help) || fail "$lumis render --help failed"
+[[ "$help" == *--tile* ]] ||
     fail "$lumis has no 'render --tile' (needs the tiled render of issue 15)"
+"$lumis" merge --help > /dev/null || fail "$lumis has no 'merge' (needs issue 15's lumis merge)"
 
 # The paper's scene beside the checkout in CI (../shared), else the repo's own.
 scene=$repo/../shared/paper-scenes/scenes/ballsOnAPlane.scn
