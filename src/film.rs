@@ -104,6 +104,18 @@ impl PixelWindow {
     }
 }
 
+/// Scales linear colour (not alpha) by `2^stops`, as [`Film::expose`] does; also used by
+/// `lumis merge`, which exposes the tiles' floats after assembling them.
+pub fn expose_rgba(rgba: &mut [Vec4], stops: f32) {
+    let scale = stops.exp2();
+    // Saturating: a bright pixel times a large exposure stays finite (f32::MAX), never inf.
+    for p in rgba {
+        *p = (p.truncate() * scale)
+            .min(Vec3::splat(f32::MAX))
+            .extend(p.w);
+    }
+}
+
 /// The pixels of one window of a `full_width x full_height` image, rows top to bottom
 /// (usually the whole image). Fields are private so the layers always have one entry per pixel.
 #[derive(Clone, Debug, PartialEq)]
@@ -154,13 +166,7 @@ impl Film {
     /// once before the film is written so that the EXR and the PNG agree. Whole stops scale
     /// by a power of two, exactly.
     pub fn expose(&mut self, stops: f32) {
-        let scale = stops.exp2();
-        // Saturating: a bright pixel times a large exposure stays finite (f32::MAX), never inf.
-        for p in &mut self.rgba {
-            *p = (p.truncate() * scale)
-                .min(Vec3::splat(f32::MAX))
-                .extend(p.w);
-        }
+        expose_rgba(&mut self.rgba, stops);
     }
 
     /// Width in pixels.

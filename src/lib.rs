@@ -8,6 +8,7 @@ pub mod accel;
 pub mod camera;
 pub mod cryptomatte;
 pub mod effects;
+pub mod farm;
 pub mod film;
 pub mod formats;
 pub mod geometry;

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 mod cli;
 
-use cli::{bench, hits, info, render};
+use cli::{bench, hits, info, merge, render};
 
 /// lumis: an offline Whitted-style ray tracer.
 #[derive(Parser, Debug)]
@@ -32,6 +32,9 @@ enum Command {
     /// Trace a batch of rays from an .npy file and write one hit record per ray (for
     /// cross-checks against other tracers).
     Hits(hits::HitsArgs),
+    /// Assemble the tiles of a farm render (`lumis render --tile I/N`) into the image one
+    /// render gives, bit for bit.
+    Merge(merge::MergeArgs),
     /// Measure performance.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
@@ -43,6 +46,7 @@ fn main() {
         Some(Command::Render(args)) => render::run(args),
         Some(Command::Info { file }) => info::run(file),
         Some(Command::Hits(args)) => hits::run(args),
+        Some(Command::Merge(args)) => merge::run(args),
         Some(Command::Bench(command)) => bench::run(command),
         None => render::run(&cli.render),
     };

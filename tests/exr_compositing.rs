@@ -49,7 +49,7 @@ fn write(dir: &Path, r: &Rendered, camera: &Camera, meta: &ExrMetadata) -> FlatI
     let path = dir.join("out.exr");
     let meta = ExrMetadata {
         float_rgba: true,
-        ..*meta
+        ..meta.clone()
     };
     write_exr(&path, &r.film, camera, &meta).unwrap();
     read_exr(&path)

@@ -9,6 +9,7 @@ pub mod bench;
 pub mod hits;
 pub mod info;
 pub mod interrupt;
+pub mod merge;
 pub mod overrides;
 pub mod passes;
 pub mod render;

@@ -1,9 +1,10 @@
 //! Flags that choose which pixels a render computes and how the EXR stores misses:
-//! `--crop` (pbrt's `--cropwindow`, NDC), `--pixel-bounds` (pbrt's `--pixelbounds`, pixels) and
-//! `--z-miss`.
+//! `--crop` (pbrt's `--cropwindow`, NDC), `--pixel-bounds` (pbrt's `--pixelbounds`, pixels),
+//! `--tile` (a farm job's strip) and `--z-miss`.
 
 use anyhow::{Result, bail};
 use clap::Args;
+use lumis::farm::TileSpec;
 use lumis::film::PixelWindow;
 
 /// The window and depth flags of `lumis render`.
@@ -18,6 +19,12 @@ pub struct WindowArgs {
     /// --crop.
     #[arg(long, value_name = "X0,X1,Y0,Y1", value_parser = parse_pixel_bounds, conflicts_with = "crop")]
     pixel_bounds: Option<PixelWindow>,
+    /// Render tile I of N (0-based, 0 <= I < N) for a render farm: a fixed split of the image
+    /// into N horizontal strips (edges on multiples of 16 rows while there are enough), written
+    /// as an EXR tile (default tile_I.exr) for `lumis merge` to assemble into the image a
+    /// single render gives, bit for bit. See docs/farm.md.
+    #[arg(long, value_name = "I/N", conflicts_with_all = ["crop", "pixel_bounds"])]
+    pub tile: Option<TileSpec>,
     /// The EXR depth (Z) of pixels whose centre ray escaped: `inf` (default) or a large
     /// finite number such as 1e10, for compositors whose depth merges break on infinities.
     #[arg(
@@ -33,6 +40,12 @@ pub struct WindowArgs {
 impl WindowArgs {
     /// The pixels to render of a `width x height` image (`None`: all), checked against it.
     pub fn window(&self, width: u32, height: u32) -> Result<Option<PixelWindow>> {
+        if let Some(tile) = self.tile {
+            return match tile.window(width, height) {
+                Ok(w) => Ok(Some(w)),
+                Err(e) => bail!("--tile: {e}"),
+            };
+        }
         let (flag, window) = match (self.crop, self.pixel_bounds) {
             (Some(c), _) => ("--crop", PixelWindow::from_crop(c, width, height)),
             (None, Some(w)) => ("--pixel-bounds", w),

@@ -4,6 +4,7 @@
 //! model clipping. A function of the film alone, so as deterministic as the render.
 
 use crate::film::Film;
+use crate::math::Vec4;
 
 /// The luminance percentile of the covered pixels that [`auto_exposure`] places.
 pub const AUTO_EXPOSURE_PERCENTILE: f32 = 0.9;
@@ -15,8 +16,12 @@ pub const AUTO_EXPOSURE_TARGET: f32 = 0.8;
 /// coverage (alpha > 0) to [`AUTO_EXPOSURE_TARGET`]; clamped to +-24 stops. 0 for a film with
 /// no covered, lit pixel.
 pub fn auto_exposure(film: &Film) -> f32 {
-    let mut lum: Vec<f32> = film
-        .rgba()
+    auto_exposure_of(film.rgba())
+}
+
+/// [`auto_exposure`] of linear premultiplied RGBA pixels (a merged image's, in `lumis merge`).
+pub fn auto_exposure_of(rgba: &[Vec4]) -> f32 {
+    let mut lum: Vec<f32> = rgba
         .iter()
         .filter(|p| p.w > 0.0)
         .map(|p| 0.2126 * p.x + 0.7152 * p.y + 0.0722 * p.z)
@@ -39,7 +44,6 @@ pub fn auto_exposure(film: &Film) -> f32 {
 mod tests {
     use super::*;
     use crate::film::PixelAov;
-    use crate::math::Vec4;
 
     #[test]
     fn places_the_percentile_at_the_target_and_ignores_the_background() {

@@ -38,6 +38,7 @@ use super::aov_layers::{self, AovLayers};
 use super::cryptomatte;
 use super::header_order::sorted_header;
 use super::layout::ChannelLayout;
+use super::provenance::{self, RenderIdentity, TileHeader};
 use super::staged::write_atomically;
 use super::{OutputError, check_not_empty};
 use crate::camera::{Camera, Lens};
@@ -69,7 +70,7 @@ pub const ATTR_EXPOSURE: &str = "lumis/exposure";
 pub const HALF_MAX: f32 = 65504.0;
 
 /// Render facts written into the EXR header alongside the pixels.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ExrMetadata {
     /// Store `R,G,B,A` as 32-bit float instead of half. Half covers up to 65504 with ~3
     /// significant digits, enough for display; float keeps the film's values bit-exact.
@@ -94,6 +95,11 @@ pub struct ExrMetadata {
     pub aov_layers: AovLayers,
     /// The channel naming convention.
     pub layout: ChannelLayout,
+    /// What the render was made from (scene hash, seed, settings); not written when `None`.
+    pub identity: Option<RenderIdentity>,
+    /// Set for a farm tile (`--tile`): RGBA is then stored as float before exposure, for
+    /// `lumis merge` to finish (see [`super::provenance`]).
+    pub tile: Option<TileHeader>,
 }
 
 impl Default for ExrMetadata {
@@ -108,6 +114,8 @@ impl Default for ExrMetadata {
             partial: false,
             aov_layers: AovLayers::default(),
             layout: ChannelLayout::Lumis,
+            identity: None,
+            tile: None,
         }
     }
 }
@@ -181,6 +189,12 @@ const REC709_D65: Chromaticities = Chromaticities {
     white: Vec2(0.3127, 0.3290),
 };
 
+/// An RGBA value as half. Half tops out at 65504: a brighter (finite) value would round to
+/// infinity, so it is clamped there; `--float` keeps the film's values.
+pub(crate) fn half_rgba(v: f32) -> f16 {
+    f16::from_f32(v.clamp(-HALF_MAX, HALF_MAX))
+}
+
 /// Builds the single layer: channels from the film, attributes from the camera and `meta`.
 fn build_layer(
     film: &Film,
@@ -193,16 +207,11 @@ fn build_layer(
 
     let beauty = |component: fn(Vec4) -> f32| {
         let values = rgba.iter().map(|&p| component(p));
-        if meta.float_rgba {
+        // A tile keeps the film's floats: the merge converts them, as here, after exposure.
+        if meta.float_rgba || meta.tile.is_some() {
             FlatSamples::F32(values.collect())
         } else {
-            // Half tops out at 65504: a brighter (finite) value would round to infinity, so
-            // it is clamped there; `--float` keeps the film's values.
-            FlatSamples::F16(
-                values
-                    .map(|v| f16::from_f32(v.clamp(-HALF_MAX, HALF_MAX)))
-                    .collect(),
-            )
+            FlatSamples::F16(values.map(half_rgba).collect())
         }
     };
     let float = |values: Vec<f32>| FlatSamples::F32(values);
@@ -279,17 +288,26 @@ fn build_layer(
     if meta.partial {
         extra.push((ATTR_PARTIAL, AttributeValue::I32(1)));
     }
+    // A tile's colour is not exposed yet: the merge records the exposure it applies.
+    if meta.tile.is_none() {
+        extra.push((ATTR_EXPOSURE, AttributeValue::F32(meta.exposure)));
+    }
     for (name, value) in [
         (ATTR_RENDERER, AttributeValue::Text(Text::from(SOFTWARE))),
         (ATTR_SPP, int(per_axis * per_axis)),
         (ATTR_SPP_PER_AXIS, int(per_axis)),
-        (ATTR_EXPOSURE, AttributeValue::F32(meta.exposure)),
     ]
     .into_iter()
     .chain(extra)
     {
         attributes.other.insert(Text::from(name), value);
     }
+    attributes.other.extend(provenance::attributes(
+        meta.identity.as_ref(),
+        meta.tile.as_ref(),
+        meta.float_rgba,
+        meta.layout,
+    ));
     for layer in film.crypto() {
         attributes
             .other

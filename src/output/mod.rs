@@ -27,6 +27,7 @@ mod header_order;
 mod layout;
 mod png;
 mod preflight;
+mod provenance;
 mod staged;
 mod temps;
 mod tonemap;
@@ -44,15 +45,23 @@ use crate::film::Film;
 
 pub use self::aov_layers::AovLayers;
 pub use self::display::{DisplayTransform, linear_to_srgb8};
-pub use self::exposure::{AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET, auto_exposure};
+pub use self::exposure::{
+    AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET, auto_exposure, auto_exposure_of,
+};
+pub(crate) use self::exr::half_rgba;
 pub use self::exr::{
     ATTR_EXPOSURE, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
     encode_exr, imath_m44f, write_exr,
 };
 pub use self::finite::{NonFinite, check_finite};
+pub(crate) use self::header_order::sorted_header;
 pub use self::layout::ChannelLayout;
 pub use self::png::{encode_png_with, write_png, write_png_with};
+pub use self::provenance::{
+    ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_EXPOSURE,
+    ATTR_TILE_RGBA, RenderIdentity, TILE_ATTR_PREFIX, TILE_EXPOSURE_AUTO, TileHeader,
+};
 pub use self::tonemap::Tonemap;
 
 /// Writes `text` to `path` atomically (a report beside the images, e.g. `--stats-json`).

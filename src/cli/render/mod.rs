@@ -1,6 +1,8 @@
 //! `lumis render [SCENE]` (also `lumis [SCENE]`): one scene to EXR and/or PNG, with the
 //! settings the flags override and a summary of the run.
 
+mod identity;
+
 use super::accel::AccelArgs;
 use super::accuracy::{AccuracyArgs, CutoffArgs};
 use super::interrupt::{Interrupted, on_ctrl_c};
@@ -12,7 +14,9 @@ use super::window::WindowArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use lumis::formats::record_inputs;
-use lumis::output::{DisplayTransform, ExrMetadata, PlannedOutput, StagedOutputs, prepare_outputs};
+use lumis::output::{
+    DisplayTransform, ExrMetadata, PlannedOutput, StagedOutputs, TileHeader, prepare_outputs,
+};
 use lumis::render::{CancelFlag, RenderOptions, render};
 use lumis::scene::UpAxis;
 use std::io::IsTerminal;
@@ -163,7 +167,18 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     let choice = args.accel.validated()?;
     let window = args.window.window(st.width, st.height)?;
-    let planned = output_paths(args)?;
+    // The exposure to apply, decided before the render; `None`: automatic, from the film.
+    let fixed_exposure = match args.exposure {
+        Some(ev) => Some(ev),
+        None if args.scene.as_deref().is_some_and(is_model_file) => None,
+        None => Some(st.exposure),
+    };
+    let identity = args.identity(&inputs, st, fixed_exposure)?;
+    let tile_output = args
+        .window
+        .tile
+        .map(|t| PathBuf::from(format!("tile_{}.exr", t.index)));
+    let planned = output_paths(args, tile_output.as_deref())?;
     // Before the render: a missing directory or an output that is an input fails at once.
     prepare_outputs(&planned, &inputs)?;
     let outputs: Vec<PathBuf> = planned
@@ -200,18 +215,26 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let scene = world.scene();
     times.render = t.elapsed();
 
-    let exposure = match args.exposure {
+    let tile = args.window.tile.map(|spec| TileHeader {
+        spec,
+        exposure: fixed_exposure,
+    });
+    let exposure = match fixed_exposure {
         Some(ev) => ev,
-        None if args.scene.as_deref().is_some_and(is_model_file) => {
+        // A tile's exposure is the merge's to compute, over the whole image.
+        None if tile.is_some() => 0.0,
+        None => {
             let ev = lumis::output::auto_exposure(&rendered.film);
             if !args.quiet {
                 eprintln!("auto exposure: {ev:+.2} EV");
             }
             ev
         }
-        None => scene.settings().exposure,
     };
-    rendered.film.expose(exposure);
+    // A tile is written before exposure; the merge applies it (see lumis::farm).
+    if tile.is_none() {
+        rendered.film.expose(exposure);
+    }
     // The last line of defence of the NaN guarantee: nothing is written from a film with a
     // non-finite sample (the loaders' limits should make this unreachable).
     lumis::output::check_finite(&rendered.film)?;
@@ -227,6 +250,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         partial: rendered.is_partial(),
         aov_layers: args.passes.aov_layers(),
         layout: args.passes.layout(),
+        identity: Some(identity),
+        tile,
     };
     // All outputs are written to temporary files first and renamed only when every one
     // succeeded, so a failing one leaves every existing file as it was.
@@ -271,9 +296,29 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 const STATS_JSON: &str = "--stats-json";
 
 /// The files to write, with the flag that named each: `-o` and `--png` when given, otherwise
-/// `out.exr` and `out.png`; then the `--stats-json` report.
-fn output_paths(args: &RenderArgs) -> Result<Vec<PlannedOutput<'_>>> {
-    let mut paths: Vec<PlannedOutput<'_>> = Vec::new();
+/// `out.exr` and `out.png` (a tile: `tile_default`, the EXR alone); then the `--stats-json`
+/// report.
+fn output_paths<'a>(
+    args: &'a RenderArgs,
+    tile_default: Option<&'a Path>,
+) -> Result<Vec<PlannedOutput<'a>>> {
+    let mut paths: Vec<PlannedOutput<'a>> = Vec::new();
+    if let Some(default) = tile_default {
+        let path = args.output.as_deref().unwrap_or(default);
+        if !has_extension(path, "exr") || args.png.is_some() {
+            bail!(
+                "--tile writes an EXR tile for `lumis merge`: give -o NAME.exr and no --png                  (the merge writes the finished image)"
+            );
+        }
+        paths.push(PlannedOutput { flag: "-o", path });
+        if let Some(json) = &args.stats_json {
+            paths.push(PlannedOutput {
+                flag: STATS_JSON,
+                path: json,
+            });
+        }
+        return Ok(paths);
+    }
     let planned = |flag, path: &'static str| PlannedOutput {
         flag,
         path: Path::new(path),

@@ -1,0 +1,68 @@
+//! The identity of a render for its EXR header (`lumis/sceneHash`, `lumis/seed`,
+//! `lumis/settings`): what `lumis merge` compares to tell whether tiles belong together.
+//!
+//! Only what changes the pixels goes in: the output paths, `--threads`, `--quiet`, `--stats`,
+//! `--timing-metadata` and `--tile` itself do not, so every tile of a render and the render
+//! made in one go record the same identity.
+
+use super::RenderArgs;
+use anyhow::{Context, Result};
+use lumis::formats::InputFile;
+use lumis::output::RenderIdentity;
+use lumis::scene::Settings;
+use std::fmt::Write as _;
+
+impl RenderArgs {
+    /// The identity of this render of a scene read from `inputs`, with `settings` after every
+    /// override and `exposure` the exposure it applies (`None`: automatic).
+    pub(super) fn identity(
+        &self,
+        inputs: &[InputFile],
+        settings: &Settings,
+        exposure: Option<f32>,
+    ) -> Result<RenderIdentity> {
+        let scene_hash = lumis::farm::scene_hash(inputs, &self.load_options())
+            .context("hashing the scene's files for the EXR header")?;
+        Ok(RenderIdentity {
+            scene_hash,
+            seed: self.seed,
+            settings: self.pixel_settings(settings, exposure),
+        })
+    }
+
+    /// Everything besides the files that decides what is loaded.
+    fn load_options(&self) -> String {
+        let source = if self.scene.is_some() {
+            "file"
+        } else {
+            "the built-in default scene"
+        };
+        format!(
+            "source: {source}\ndefines: {:?}\ngltf scene: {:?}\ncamera: {:?}\nauto camera: {}\nup: {:?}\n",
+            self.overrides.defines(),
+            self.gltf_scene,
+            self.camera,
+            self.auto_camera,
+            self.up,
+        )
+    }
+
+    /// The settings that change the pixels, one `key: value` per line.
+    fn pixel_settings(&self, settings: &Settings, exposure: Option<f32>) -> String {
+        let mut s = String::new();
+        let exposure = exposure.map_or("auto".to_string(), |ev| ev.to_string());
+        let cryptomatte = self.passes.cryptomatte().ok().flatten();
+        // Writing to a String cannot fail.
+        let _ = writeln!(s, "scene settings: {settings:?}");
+        let _ = writeln!(s, "effects: {:?}", self.effects);
+        let _ = writeln!(s, "accel: {:?}", self.accel);
+        let _ = writeln!(s, "exposure: {exposure}");
+        let _ = writeln!(s, "z miss: {}", self.window.z_miss);
+        let _ = writeln!(s, "float rgba: {}", self.float);
+        let _ = writeln!(s, "aov: {:?}", self.passes.aov_layers());
+        let _ = writeln!(s, "cryptomatte levels: {cryptomatte:?}");
+        let _ = writeln!(s, "layout: {:?}", self.passes.layout());
+        let _ = write!(s, "transparent: {}", self.passes.transparent());
+        s
+    }
+}
