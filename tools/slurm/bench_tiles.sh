@@ -13,10 +13,11 @@
 #
 # Columns: wall = submit to the merge's end (merge.log); tile = the task's wall time inside
 # its sbatch script (render_I.log), mean and max; load+build = lumis's own summary, mean per
-# tile (the work every tile repeats); render = the sum of lumis's render phases; merge = the
-# merge job's wall time; Slurm between jobs = wall minus every job's own time (only when the
-# jobs run one at a time, see above); same bytes = the merged EXR against a render without
-# tiles.
+# tile (the work every tile repeats); render, write = the sums over the tiles of lumis's render
+# and write phases (a tile keeps its RGBA unexposed in 32-bit float, where the image defaults
+# to half); merge = the merge job's wall time; Slurm between jobs = wall minus every job's own
+# time (only when the jobs run one at a time, see above); same bytes = the merged EXR against
+# a render without tiles.
 # Needs root (or an installed Slurm), like tools/test_slurm.sh. Progress goes to stderr.
 set -euo pipefail
 
@@ -86,7 +87,7 @@ phases() {
     local n='\([0-9.]*\)s'
     sed -n "s/^time: load $n, build $n, render $n, write $n\$/\\1 \\2 \\3 \\4/p" "$1" | tail -n 1
 }
-read -r ref_load ref_build ref_render _ <<< "$(phases "$work/whole.log") 0 0 0 0"
+read -r ref_load ref_build ref_render ref_write _ <<< "$(phases "$work/whole.log") 0 0 0 0"
 # The value of key $2 in the last lumis-slurm line of log $1.
 field() {
     grep '^lumis-slurm: task=' "$1" | tail -n 1 | tr ' ' '\n' | sed -n "s/^$2=//p"
@@ -117,12 +118,12 @@ for n in "${counts[@]}"; do
     cmp -s "$out" "$work/whole.exr" && same=yes
     rows+=("$(printf '%s\n' "${per_tile[@]}" | awk -v n="$n" -v wall_s="$t_submit" \
         -v wall_e="$merge_end" -v merge="$merge_s" -v same="$same" -v serial="$serial" '
-        { task += $1; if ($1 > max) max = $1; lb += $2 + $3; render += $4 }
+        { task += $1; if ($1 > max) max = $1; lb += $2 + $3; render += $4; write += $5 }
         END {
             wall = wall_e - wall_s
             gaps = serial ? sprintf("%.2f", wall - task - merge) : "-"
-            printf "| %d | %.2f | %.2f / %.2f | %.3f | %.2f | %.2f | %s | %s |\n",
-                n, wall, task / n, max, lb / n, render, merge, gaps, same }')")
+            printf "| %d | %.2f | %.2f / %.2f | %.3f | %.2f | %.2f | %.2f | %s | %s |\n",
+                n, wall, task / n, max, lb / n, render, write, merge, gaps, same }')")
 done
 
 order="tiles run one after another"
@@ -130,12 +131,13 @@ order="tiles run one after another"
 echo "Scene \`$(basename "$scene")\`, ${flags[*]}, $(nproc) CPUs, $cpus per tile task" \
     "($order), $(hostname -s)."
 echo
-awk -v w="$t0" -v e="$t1" -v l="$ref_load" -v b="$ref_build" -v r="$ref_render" 'BEGIN {
-    printf "Without Slurm or tiles: %.2f s wall, load+build %.3f s, render %.2f s.\n",
-        e - w, l + b, r }'
+awk -v w="$t0" -v e="$t1" -v l="$ref_load" -v b="$ref_build" -v r="$ref_render" \
+    -v x="$ref_write" 'BEGIN {
+    printf "Without Slurm or tiles: %.2f s wall, load+build %.3f s, render %.2f s, write %.2f s.\n",
+        e - w, l + b, r, x }'
 echo
 echo "| tiles | wall, submit to merged (s) | tile task mean / max (s)" \
-    "| load+build per tile (s) | render, sum over tiles (s) | merge (s)" \
+    "| load+build per tile (s) | render, sum (s) | write, sum (s) | merge (s)" \
     "| Slurm between jobs (s) | same bytes |"
-echo "|---:|---:|---:|---:|---:|---:|---:|:---:|"
+echo "|---:|---:|---:|---:|---:|---:|---:|---:|:---:|"
 printf '%s\n' "${rows[@]}"
