@@ -11,7 +11,8 @@ pub enum FarmError {
     #[error("no tiles to merge")]
     NoTiles,
     /// A tile could not be read from disk.
-    #[error("{path}: cannot read the tile: {source}")]
+    // The cause is printed by the error chain (`error: {e:#}`), so not repeated here.
+    #[error("{path}: cannot read the tile")]
     Read {
         /// The tile.
         path: PathBuf,
@@ -75,7 +76,7 @@ pub enum FarmError {
         spec: TileSpec,
     },
     /// Encoding the merged image failed.
-    #[error("encoding the merged image: {0}")]
+    #[error("encoding the merged image")]
     Encode(#[source] ::exr::error::Error),
 }
 
