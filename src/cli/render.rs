@@ -3,6 +3,7 @@
 
 use super::accel::AccelArgs;
 use super::accuracy::{AccuracyArgs, CutoffArgs};
+use super::frame::{FrameArgs, NumberedOutputs};
 use super::interrupt::{Interrupted, on_ctrl_c};
 use super::overrides::OverrideArgs;
 use super::passes::PassArgs;
@@ -108,6 +109,8 @@ pub struct RenderArgs {
     effects: lumis::effects::EffectMode,
     #[command(flatten)]
     overrides: OverrideArgs,
+    #[command(flatten)]
+    frame: FrameArgs,
 }
 
 /// Loads, overrides the settings from the flags, builds, renders, exposes and writes.
@@ -124,6 +127,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 camera: args.camera,
                 up: args.up.map(UpAxis::from).unwrap_or_default(),
                 auto_camera: args.auto_camera,
+                frame: args.frame.frame(),
             },
             defines,
         )
@@ -135,7 +139,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         {
             bail!("--gltf-scene, --camera, --up and --auto-camera need a model file")
         }
-        None => lumis::formats::default_scene_with(defines)
+        None => lumis::formats::default_scene_at(defines, args.frame.frame())
             .context("loading the built-in default scene"),
     });
     let mut scene = scene?;
@@ -163,7 +167,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     let choice = args.accel.validated()?;
     let window = args.window.window(st.width, st.height)?;
-    let planned = output_paths(args)?;
+    let numbered = NumberedOutputs::new(&output_paths(args)?, scene.frame())?;
+    let planned = numbered.planned();
     // Before the render: a missing directory or an output that is an input fails at once.
     prepare_outputs(&planned, &inputs)?;
     let outputs: Vec<PathBuf> = planned
@@ -227,6 +232,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         partial: rendered.is_partial(),
         aov_layers: args.passes.aov_layers(),
         layout: args.passes.layout(),
+        frame: scene.frame(),
     };
     // All outputs are written to temporary files first and renamed only when every one
     // succeeded, so a failing one leaves every existing file as it was.

@@ -94,6 +94,9 @@ pub struct ExrMetadata {
     pub aov_layers: AovLayers,
     /// The channel naming convention.
     pub layout: ChannelLayout,
+    /// The frame of an animation the image is: `lumis/frame`, `framesPerSecond`, `timeCode`
+    /// ([`super::frame`]); `None` for a still.
+    pub frame: Option<crate::scene::Frame>,
 }
 
 impl Default for ExrMetadata {
@@ -108,6 +111,7 @@ impl Default for ExrMetadata {
             partial: false,
             aov_layers: AovLayers::default(),
             layout: ChannelLayout::Lumis,
+            frame: None,
         }
     }
 }
@@ -149,7 +153,8 @@ pub fn encode_exr(
         full_height as usize,
     )));
     attributes.chromaticities = Some(REC709_D65);
-    let image = Image::new(attributes, build_layer(film, camera, meta));
+    let mut image = Image::new(attributes, build_layer(film, camera, meta));
+    super::frame::stamp(&mut image, meta.frame);
     let mut encoded = std::io::Cursor::new(Vec::new());
     image
         .write()
