@@ -296,12 +296,19 @@ impl Loader<'_> {
     /// whose camera degenerates anywhere (position reaching look_at, up turning parallel to
     /// the view) fails on its first test render, not in one task of a job array.
     fn animated_camera(&self, c: &CameraDoc, a: &Animation) -> Result<Camera, SceneError> {
+        let build = |frame: u32, e: &str| {
+            let camera = self.camera(e, &a.camera_at(c, frame))?;
+            limits::check_camera(&camera).map_err(|m| self.err(e, m))?;
+            Ok(camera)
+        };
         for frame in 0..a.frame().count() {
-            let camera = self.camera(&a.camera_element(frame), &a.camera_at(c, frame))?;
-            limits::check_camera(&camera).map_err(|m| self.err(&a.camera_element(frame), m))?;
+            // Named only on failure: naming a frame searches the keys.
+            if build(frame, "camera").is_err() {
+                build(frame, &a.camera_element(frame))?;
+            }
         }
         let frame = a.frame().number();
-        self.camera(&a.camera_element(frame), &a.camera_at(c, frame))
+        build(frame, &a.camera_element(frame))
     }
 
     /// The camera of `[camera]` table `c`; errors name it `e`.

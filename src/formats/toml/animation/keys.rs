@@ -1,6 +1,7 @@
 //! The keys of `[animation]`, checked one by one (each error names its key) and gathered into
 //! one [`Track`] per animated field.
 
+use std::collections::HashMap;
 use std::path::Path;
 
 use super::super::schema::{
@@ -32,12 +33,12 @@ impl Keys<'_> {
     }
 
     /// Checks that key `element` lies in the frame range and that no earlier key of the same
-    /// target (`earlier`: their frames and names) sits on its frame.
+    /// target (`earlier`: their names by frame) sits on its frame; records it there.
     fn placed(
         &self,
         element: &str,
         frame: u32,
-        earlier: &[(u32, String)],
+        earlier: &mut HashMap<u32, String>,
     ) -> Result<(), SceneError> {
         if frame >= self.a.frames {
             return Err(self.err(
@@ -48,21 +49,22 @@ impl Keys<'_> {
                 ),
             ));
         }
-        if let Some((_, other)) = earlier.iter().find(|(f, _)| *f == frame) {
+        if let Some(other) = earlier.get(&frame) {
             return Err(self.err(
                 element,
                 format!("frame {frame} is keyed twice (also by {other})"),
             ));
         }
+        earlier.insert(frame, element.to_owned());
         Ok(())
     }
 
     pub(super) fn camera(&self, doc: &SceneDoc) -> Result<CameraTracks, SceneError> {
         let keys = &self.a.camera;
-        let mut earlier = Vec::new();
+        let mut earlier = HashMap::new();
         for (i, k) in keys.iter().enumerate() {
             let e = camera_key(i, k.frame);
-            self.placed(&e, k.frame, &earlier)?;
+            self.placed(&e, k.frame, &mut earlier)?;
             check_camera_key(k).map_err(|m| self.err(&e, m))?;
             if doc.camera.is_none() {
                 return Err(self.err(
@@ -71,7 +73,6 @@ impl Keys<'_> {
                      (the fields no key animates come from it)",
                 ));
             }
-            earlier.push((k.frame, e));
         }
         let track3 = |f: fn(&CameraKeyDoc) -> Option<[f32; 3]>| {
             self.track(keys.iter().map(|k| (k.frame, f(k), k.interpolation)))
@@ -94,7 +95,7 @@ impl Keys<'_> {
     }
 
     pub(super) fn spheres(&self, doc: &SceneDoc) -> Result<Vec<ObjectTracks>, SceneError> {
-        let names: Vec<Option<&str>> = doc.sphere.iter().map(|s| s.name.as_deref()).collect();
+        let names = Names::of(doc.sphere.iter().map(|s| s.name.as_deref()));
         let keys = &self.a.sphere;
         let element = |i: usize, k: &SphereKeyDoc| {
             format!("animation.sphere[{i}] \"{}\" (frame {})", k.name, k.frame)
@@ -107,12 +108,11 @@ impl Keys<'_> {
                 &names,
                 name,
             )?;
-            let mut earlier = Vec::new();
+            let mut earlier = HashMap::new();
             for &i in &members {
                 let (k, e) = (&keys[i], element(i, &keys[i]));
-                self.placed(&e, k.frame, &earlier)?;
+                self.placed(&e, k.frame, &mut earlier)?;
                 check_sphere_key(k).map_err(|m| self.err(&e, m))?;
-                earlier.push((k.frame, e));
             }
             let of = |i: &usize| &keys[*i];
             out.push(ObjectTracks {
@@ -137,18 +137,17 @@ impl Keys<'_> {
     }
 
     pub(super) fn meshes(&self, doc: &SceneDoc) -> Result<Vec<ObjectTracks>, SceneError> {
-        let names: Vec<Option<&str>> = doc.mesh.iter().map(|m| m.name.as_deref()).collect();
+        let names = Names::of(doc.mesh.iter().map(|m| m.name.as_deref()));
         let keys = &self.a.mesh;
         let mut out = Vec::new();
         for (name, members) in group(keys.iter().map(|k| k.name.as_str())) {
             let e = |i: usize| format!("animation.mesh[{i}] \"{name}\" (frame {})", keys[i].frame);
             let index = self.target(&e(members[0]), "mesh", &names, name)?;
-            let mut earlier = Vec::new();
+            let mut earlier = HashMap::new();
             for &i in &members {
                 let k = &keys[i];
-                self.placed(&e(i), k.frame, &earlier)?;
+                self.placed(&e(i), k.frame, &mut earlier)?;
                 check_mesh_key(k).map_err(|m| self.err(&e(i), m))?;
-                earlier.push((k.frame, e(i)));
             }
             let of = |i: &usize| &keys[*i];
             out.push(ObjectTracks {
@@ -172,21 +171,19 @@ impl Keys<'_> {
         Ok(out)
     }
 
-    /// The index of the one `[[kind]]` element named `name` (`names`: every element's name).
+    /// The index of the one `[[kind]]` element named `name`.
     fn target(
         &self,
         element: &str,
         kind: &str,
-        names: &[Option<&str>],
+        names: &Names<'_>,
         name: &str,
     ) -> Result<usize, SceneError> {
-        let matching: Vec<usize> = (0..names.len())
-            .filter(|&i| names[i] == Some(name))
-            .collect();
-        match matching[..] {
-            [index] => Ok(index),
+        let matching = names.0.get(name).map_or(&[][..], Vec::as_slice);
+        match matching {
+            [index] => Ok(*index),
             [] => {
-                let mut known: Vec<&str> = names.iter().flatten().copied().collect();
+                let mut known: Vec<&str> = names.0.keys().copied().collect();
                 known.sort_unstable();
                 Err(self.err(
                     element,
@@ -223,14 +220,31 @@ impl Keys<'_> {
     }
 }
 
+/// The elements of one array (`[[sphere]]`, `[[mesh]]`) by name.
+struct Names<'a>(HashMap<&'a str, Vec<usize>>);
+
+impl<'a> Names<'a> {
+    fn of(names: impl Iterator<Item = Option<&'a str>>) -> Self {
+        let mut by_name: HashMap<&str, Vec<usize>> = HashMap::new();
+        for (i, name) in names.enumerate() {
+            if let Some(name) = name {
+                by_name.entry(name).or_default().push(i);
+            }
+        }
+        Self(by_name)
+    }
+}
+
 /// Key indices grouped by target name, in order of first appearance.
 fn group<'a>(names: impl Iterator<Item = &'a str>) -> Vec<(&'a str, Vec<usize>)> {
     let mut groups: Vec<(&str, Vec<usize>)> = Vec::new();
+    let mut slot: HashMap<&str, usize> = HashMap::new();
     for (i, name) in names.enumerate() {
-        match groups.iter_mut().find(|(n, _)| *n == name) {
-            Some((_, members)) => members.push(i),
-            None => groups.push((name, vec![i])),
-        }
+        let g = *slot.entry(name).or_insert_with(|| {
+            groups.push((name, Vec::new()));
+            groups.len() - 1
+        });
+        groups[g].1.push(i);
     }
     groups
 }
