@@ -63,6 +63,18 @@ fn describe(path: &Path, scene: &Scene) -> String {
         cam.forward(),
         cam.lens()
     );
+    if let Some(f) = scene.frame() {
+        let rate = f.rate();
+        let _ = writeln!(
+            s,
+            "animation: {} frames (0..={}) at {}/{} fps; shown at frame {}",
+            f.count(),
+            f.count() - 1,
+            rate.numerator(),
+            rate.denominator(),
+            f.number()
+        );
+    }
     let st = scene.settings();
     let _ = writeln!(
         s,

@@ -6,6 +6,7 @@
 pub mod accel;
 pub mod accuracy;
 pub mod bench;
+pub mod frame;
 pub mod hits;
 pub mod info;
 pub mod interrupt;

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::SceneError;
-use super::toml::{Override, load_toml_str_with};
+use super::toml::{Override, load_toml_str_at};
 use crate::scene::Scene;
 
 /// Where the embedded default scene claims to live (in messages and for resolving its assets).
@@ -24,6 +24,12 @@ pub fn default_scene() -> Result<Scene, SceneError> {
 
 /// [`default_scene`] with `-D` overrides: it is a TOML scene, so every key can be overridden.
 pub fn default_scene_with(overrides: &[Override]) -> Result<Scene, SceneError> {
+    default_scene_at(overrides, None)
+}
+
+/// [`default_scene_with`] at `frame` (`--frame`): the default scene is a still, so any frame
+/// is an error, unless a `-D animation.frames=N` made it a (motionless) animation.
+pub fn default_scene_at(overrides: &[Override], frame: Option<u32>) -> Result<Scene, SceneError> {
     let resolver = |path: &Path| {
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         ASSETS
@@ -37,10 +43,11 @@ pub fn default_scene_with(overrides: &[Override]) -> Result<Scene, SceneError> {
                 )
             })
     };
-    load_toml_str_with(
+    load_toml_str_at(
         DEFAULT_SCENE,
         Path::new(DEFAULT_SCENE_PATH),
         &resolver,
         overrides,
+        frame,
     )
 }

@@ -22,7 +22,7 @@ mod resolver;
 pub mod scn;
 pub mod toml;
 
-pub use builtin::{default_scene, default_scene_with};
+pub use builtin::{default_scene, default_scene_at, default_scene_with};
 pub use error::SceneError;
 pub use inputs::{InputFile, file_id, record_inputs};
 pub use regular::read_regular;
@@ -33,8 +33,8 @@ use std::path::Path;
 
 use crate::scene::{Scene, UpAxis};
 
-/// Choices a model file leaves to the caller: `scene` and `camera` only exist in glTF files,
-/// `up` and `auto_camera` apply to OBJ files too.
+/// Choices a file leaves to the caller: `scene` and `camera` only exist in glTF files, `up`
+/// and `auto_camera` apply to OBJ files too, `frame` to TOML scenes with an `[animation]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LoadOptions {
     /// Index of the scene to render (`--gltf-scene`); `None`: the file's default scene.
@@ -47,6 +47,19 @@ pub struct LoadOptions {
     pub up: UpAxis,
     /// Ignore the file's cameras and use the automatic framing camera (`--auto-camera`).
     pub auto_camera: bool,
+    /// The frame of a TOML scene's `[animation]` to pose it at (`--frame`); `None`: frame 0
+    /// of an animated scene. Other formats have no frames (glTF animations are not read).
+    pub frame: Option<u32>,
+}
+
+impl LoadOptions {
+    /// Whether only `frame` (or nothing) is chosen: what a TOML scene accepts.
+    fn is_frame_only(&self) -> bool {
+        Self {
+            frame: None,
+            ..*self
+        } == Self::default()
+    }
 }
 
 /// Loads a scene file, choosing the format by extension: `.toml` is a scene description,
@@ -76,8 +89,16 @@ pub fn load_with_overrides(
     if !is_toml && let Some(o) = overrides.iter().find(|o| !o.is_render()) {
         return Err(toml::refuse_non_render(path, o));
     }
-    let mut scene = if is_toml && *options == LoadOptions::default() {
-        toml::load_toml_file_with(path, overrides)?
+    if !is_toml && let Some(f) = options.frame {
+        return Err(SceneError::invalid(
+            path,
+            format!("--frame {f}"),
+            "only TOML scenes have frames (an [animation] table); glTF animations are not \
+             read, and OBJ and .scn files have none",
+        ));
+    }
+    let mut scene = if is_toml && options.is_frame_only() {
+        toml::load_toml_file_at(path, overrides, options.frame)?
     } else {
         load_by_extension(path, options)?
     };

@@ -100,6 +100,9 @@ pub struct ExrMetadata {
     /// Set for a farm tile (`--tile`): RGBA is then stored as float before exposure, for
     /// `lumis merge` to finish (see [`super::provenance`]).
     pub tile: Option<TileHeader>,
+    /// The frame of an animation the image is: `lumis/frame`, `framesPerSecond`, `timeCode`
+    /// ([`super::frame`]); `None` for a still.
+    pub frame: Option<crate::scene::Frame>,
 }
 
 impl Default for ExrMetadata {
@@ -116,6 +119,7 @@ impl Default for ExrMetadata {
             layout: ChannelLayout::Lumis,
             identity: None,
             tile: None,
+            frame: None,
         }
     }
 }
@@ -157,7 +161,8 @@ pub fn encode_exr(
         full_height as usize,
     )));
     attributes.chromaticities = Some(REC709_D65);
-    let image = Image::new(attributes, build_layer(film, camera, meta));
+    let mut image = Image::new(attributes, build_layer(film, camera, meta));
+    super::frame::stamp(&mut image, meta.frame);
     let mut encoded = std::io::Cursor::new(Vec::new());
     image
         .write()

@@ -23,6 +23,7 @@ mod error;
 mod exposure;
 mod exr;
 mod finite;
+mod frame;
 mod header_order;
 mod layout;
 mod png;
@@ -55,6 +56,7 @@ pub use self::exr::{
     encode_exr, imath_m44f, write_exr,
 };
 pub use self::finite::{NonFinite, check_finite};
+pub use self::frame::{ATTR_FRAME, numbered_path};
 pub(crate) use self::header_order::sorted_header;
 pub use self::layout::ChannelLayout;
 pub use self::png::{encode_png_with, write_png, write_png_with};

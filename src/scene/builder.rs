@@ -2,7 +2,7 @@
 //! an object and every object a material.
 
 use super::limits::{self, LimitError};
-use super::{Object, Scene, Settings};
+use super::{Frame, Object, Scene, Settings};
 use crate::camera::Camera;
 use crate::geometry::Geometry;
 use crate::light::Light;
@@ -22,6 +22,7 @@ pub struct SceneBuilder {
     /// The first element outside [`limits`], reported by [`SceneBuilder::build`]: loaders
     /// keep their simple add calls, and no format can add an element unchecked.
     rejected: Option<LimitError>,
+    frame: Option<Frame>,
 }
 
 impl Default for SceneBuilder {
@@ -43,6 +44,7 @@ impl SceneBuilder {
             settings: Settings::default(),
             warnings: Vec::new(),
             rejected: None,
+            frame: None,
         }
     }
 
@@ -162,7 +164,13 @@ impl SceneBuilder {
             camera,
             settings: self.settings,
             warnings: self.warnings,
+            frame: self.frame,
         })
+    }
+
+    /// Marks the scene as frame `frame` of an animation (the loader has posed it there).
+    pub fn set_frame(&mut self, frame: Frame) {
+        self.frame = Some(frame);
     }
 
     /// Records a problem the load survived (a missing texture, ignored elements); the CLI

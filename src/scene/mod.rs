@@ -2,13 +2,16 @@
 //! settings; [`World`] pairs a scene with the accelerator built over it for ray queries.
 //!
 //! File formats live in [`crate::formats`]; each builds a `Scene` through [`SceneBuilder`].
+//! A scene is a still; an animated one is posed at one frame by its loader ([`animation`]).
 
+pub mod animation;
 mod auto;
 mod builder;
 pub mod limits;
 mod settings;
 mod world;
 
+pub use animation::{Frame, FrameRate};
 pub use auto::{UpAxis, default_rig, framing_camera};
 pub use builder::SceneBuilder;
 pub use limits::LimitError;
@@ -45,6 +48,7 @@ pub struct Scene {
     camera: Camera,
     settings: Settings,
     warnings: Vec<String>,
+    frame: Option<Frame>,
 }
 
 /// A hit with its surface geometry and owning object.
@@ -114,6 +118,11 @@ impl Scene {
     /// Mutable settings, for CLI overrides.
     pub fn settings_mut(&mut self) -> &mut Settings {
         &mut self.settings
+    }
+
+    /// The frame of its animation the scene was posed at; `None` for a still.
+    pub fn frame(&self) -> Option<Frame> {
+        self.frame
     }
 
     /// Replaces the camera.

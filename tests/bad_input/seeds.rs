@@ -79,6 +79,31 @@ scale = 0.5
 [[mesh]]
 positions = [[-3.0, -1.0, -3.0], [3.0, -1.0, -3.0], [0.0, 3.0, -3.0]]
 indices = [[0, 1, 2]]
+
+# Rendered at frame 0 (the keys' values are damaged like any other number).
+[animation]
+frames = 4
+fps = [24000, 1001]
+
+[[animation.camera]]
+frame = 0
+position = [0.0, 1.0, 8.0]
+fov = 45.0
+
+[[animation.camera]]
+frame = 3
+position = [2.0, 1.0, 8.0]
+interpolation = "step"
+
+[[animation.sphere]]
+name = "ball"
+frame = 2
+center = [-1.5, 0.5, 0.0]
+
+[[animation.mesh]]
+name = "quad"
+frame = 1
+rotate = [-90.0, 10.0, 0.0]
 "#;
 
 const MODEL_OBJ: &str = "mtllib model.mtl

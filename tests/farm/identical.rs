@@ -149,3 +149,20 @@ fn timing_is_the_only_difference_with_timing_metadata() {
     };
     assert_eq!(without_timing(&single), without_timing(&merged));
 }
+
+/// A frame of an animation, split: the tiles carry the frame, the merge keeps it.
+#[test]
+fn a_frame_of_an_animation() {
+    let dir = tempfile::tempdir().unwrap();
+    let orbit = root().join("scenes/orbit.toml");
+    let args = [
+        "--width",
+        "40",
+        "--height",
+        "24",
+        "--frame",
+        "7",
+        orbit.to_str().unwrap(),
+    ];
+    assert_identical(dir.path(), "orbit", &[3], &args);
+}

@@ -153,3 +153,21 @@ fn bad_tile_flags_are_refused_before_rendering() {
     names.sort();
     assert_eq!(names, ["tile_1.exr"]);
 }
+
+#[test]
+fn tiles_of_different_frames_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let orbit = super::common::files::root().join("scenes/orbit.toml");
+    let scene = orbit.to_str().unwrap();
+    for (i, frame) in [(0, "3"), (1, "4")] {
+        let (spec, out) = (format!("{i}/2"), format!("f{i}.exr"));
+        let args = [
+            "render", "-q", "--width", "16", "--height", "20", "--frame", frame, "--tile", &spec,
+            "-o", &out, scene,
+        ];
+        assert_ok(&lumis(d, &args));
+    }
+    let err = refused(&merge(d, &[d.join("f0.exr"), d.join("f1.exr")], "m.exr"));
+    assert!(err.contains("f1.exr") && err.contains("the frame"), "{err}");
+}

@@ -5,6 +5,7 @@ mod identity;
 
 use super::accel::AccelArgs;
 use super::accuracy::{AccuracyArgs, CutoffArgs};
+use super::frame::{FrameArgs, NumberedOutputs};
 use super::interrupt::{Interrupted, on_ctrl_c};
 use super::overrides::OverrideArgs;
 use super::passes::PassArgs;
@@ -112,6 +113,8 @@ pub struct RenderArgs {
     effects: lumis::effects::EffectMode,
     #[command(flatten)]
     overrides: OverrideArgs,
+    #[command(flatten)]
+    frame: FrameArgs,
 }
 
 /// Loads, overrides the settings from the flags, builds, renders, exposes and writes.
@@ -128,6 +131,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 camera: args.camera,
                 up: args.up.map(UpAxis::from).unwrap_or_default(),
                 auto_camera: args.auto_camera,
+                frame: args.frame.frame(),
             },
             defines,
         )
@@ -139,7 +143,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         {
             bail!("--gltf-scene, --camera, --up and --auto-camera need a model file")
         }
-        None => lumis::formats::default_scene_with(defines)
+        None => lumis::formats::default_scene_at(defines, args.frame.frame())
             .context("loading the built-in default scene"),
     });
     let mut scene = scene?;
@@ -178,7 +182,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         .window
         .tile
         .map(|t| PathBuf::from(format!("tile_{}.exr", t.index)));
-    let planned = output_paths(args, tile_output.as_deref())?;
+    let numbered =
+        NumberedOutputs::new(&output_paths(args, tile_output.as_deref())?, scene.frame())?;
+    let planned = numbered.planned();
     // Before the render: a missing directory or an output that is an input fails at once.
     prepare_outputs(&planned, &inputs)?;
     let outputs: Vec<PathBuf> = planned
@@ -252,6 +258,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         layout: args.passes.layout(),
         identity: Some(identity),
         tile,
+        frame: scene.frame(),
     };
     // All outputs are written to temporary files first and renamed only when every one
     // succeeded, so a failing one leaves every existing file as it was.

@@ -11,8 +11,8 @@ use ::exr::prelude::{AttributeValue, LayerAttributes, Text, Vec2};
 use super::read::TileFile;
 use crate::farm::FarmError;
 use crate::output::{
-    ATTR_PARTIAL, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS,
-    TILE_ATTR_PREFIX,
+    ATTR_FRAME, ATTR_PARTIAL, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SCENE_HASH, ATTR_SEED,
+    ATTR_SETTINGS, TILE_ATTR_PREFIX,
 };
 
 /// Whether attribute `name` may differ between the tiles of one render.
@@ -129,6 +129,8 @@ fn check_same_render(first: &TileFile, tile: &TileFile) -> Result<(), FarmError>
         (ATTR_SEED, "the seed (lumis/seed)"),
         (ATTR_SETTINGS, "the render settings (lumis/settings)"),
         (ATTR_RENDERER, "the lumis version (lumis/renderer)"),
+        // The frame poses the scene after it is loaded, so the scene hash cannot see it.
+        (ATTR_FRAME, "the frame of the animation (lumis/frame)"),
     ] {
         let (va, vb) = (attribute(a, name), attribute(b, name));
         if va != vb {

@@ -1,6 +1,7 @@
 //! The TOML scene format (documented in `docs/scene-format.md`): parsing into the schema of
 //! [`schema`], then checking every value and reference while building the [`Scene`].
 
+mod animation;
 mod mesh;
 mod overrides;
 mod render;
@@ -19,7 +20,8 @@ use crate::light::Light;
 use crate::material::{Material, Texture};
 use crate::math::Vec3;
 use crate::scene::Scene;
-use crate::scene::{SceneBuilder, framing_camera};
+use crate::scene::{SceneBuilder, framing_camera, limits};
+use animation::Animation;
 use schema::{CameraDoc, LightDoc, LightKind, MaterialDoc, RenderDoc, SceneDoc};
 
 /// Loads the TOML scene at `path`; referenced files are read from disk relative to its folder.
@@ -29,8 +31,19 @@ pub fn load_toml_file(path: &Path) -> Result<Scene, SceneError> {
 
 /// [`load_toml_file`] with `-D` overrides applied to the document before it is checked.
 pub fn load_toml_file_with(path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
+    load_toml_file_at(path, overrides, None)
+}
+
+/// [`load_toml_file_with`] posed at `frame` of the scene's `[animation]` (`--frame`; `None`:
+/// frame 0 of an animated scene). A frame outside the animation, or any frame of a scene
+/// without one, is an error.
+pub fn load_toml_file_at(
+    path: &Path,
+    overrides: &[Override],
+    frame: Option<u32>,
+) -> Result<Scene, SceneError> {
     let text = read_text(path)?;
-    load_toml_str_with(&text, path, &read_file_bytes, overrides)
+    load_toml_str_at(&text, path, &read_file_bytes, overrides, frame)
 }
 
 /// Loads a TOML scene from `text`. `origin` is the scene's path: it names the file in errors and
@@ -51,6 +64,18 @@ pub fn load_toml_str_with(
     resolver: Resolver<'_>,
     overrides: &[Override],
 ) -> Result<Scene, SceneError> {
+    load_toml_str_at(text, origin, resolver, overrides, None)
+}
+
+/// [`load_toml_str_with`] posed at `frame` of the scene's `[animation]`, as
+/// [`load_toml_file_at`]. The overrides are applied first, so `-D` can change the keys.
+pub fn load_toml_str_at(
+    text: &str,
+    origin: &Path,
+    resolver: Resolver<'_>,
+    overrides: &[Override],
+    frame: Option<u32>,
+) -> Result<Scene, SceneError> {
     // The file on its own first, so its errors keep their line numbers.
     let mut doc: SceneDoc = ::toml::from_str(text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
@@ -64,6 +89,8 @@ pub fn load_toml_str_with(
         resolver,
         builder: SceneBuilder::new(),
         materials: HashMap::new(),
+        frame,
+        overrides,
     }
     .load(doc)
 }
@@ -75,10 +102,23 @@ struct Loader<'a> {
     builder: SceneBuilder,
     /// Material name to index in the builder.
     materials: HashMap<String, u32>,
+    /// The frame `--frame` asks for.
+    frame: Option<u32>,
+    /// The `-D` overrides already applied to the document (for warnings).
+    overrides: &'a [Override],
 }
 
 impl Loader<'_> {
-    fn load(mut self, doc: SceneDoc) -> Result<Scene, SceneError> {
+    fn load(mut self, mut doc: SceneDoc) -> Result<Scene, SceneError> {
+        // Posed first: from here on the document is the still of one frame.
+        let animation = Animation::new(&doc, self.frame, self.origin)?;
+        if let Some(a) = &animation {
+            a.pose_objects(&mut doc);
+            self.builder.set_frame(a.frame());
+            for w in a.shadowed(self.overrides, self.origin) {
+                self.builder.warn(w);
+            }
+        }
         self.render(&doc.render)?;
         for (name, m) in &doc.materials {
             let material = self.material(name, m)?;
@@ -114,9 +154,10 @@ impl Loader<'_> {
             let name = m.name.clone().unwrap_or_else(|| format!("mesh{i}"));
             self.add_mesh(&element, name, m)?;
         }
-        let camera = match &doc.camera {
-            Some(c) => self.camera(c)?,
-            None => {
+        let camera = match (&doc.camera, &animation) {
+            (Some(c), Some(a)) if a.animates_camera() => self.animated_camera(c, a)?,
+            (Some(c), _) => self.camera("camera", c)?,
+            (None, _) => {
                 let s = self.builder.settings_mut().clone();
                 framing_camera(self.builder.bounds(), s.width, s.height)
             }
@@ -251,8 +292,27 @@ impl Loader<'_> {
         }
     }
 
-    fn camera(&self, c: &CameraDoc) -> Result<Camera, SceneError> {
-        let e = "camera";
+    /// The camera at the animation's frame. Every frame's camera is built, so a sequence
+    /// whose camera degenerates anywhere (position reaching look_at, up turning parallel to
+    /// the view) fails on its first test render, not in one task of a job array.
+    fn animated_camera(&self, c: &CameraDoc, a: &Animation) -> Result<Camera, SceneError> {
+        let build = |frame: u32, e: &str| {
+            let camera = self.camera(e, &a.camera_at(c, frame))?;
+            limits::check_camera(&camera).map_err(|m| self.err(e, m))?;
+            Ok(camera)
+        };
+        for frame in 0..a.frame().count() {
+            // Named only on failure: naming a frame searches the keys.
+            if build(frame, "camera").is_err() {
+                build(frame, &a.camera_element(frame))?;
+            }
+        }
+        let frame = a.frame().number();
+        build(frame, &a.camera_element(frame))
+    }
+
+    /// The camera of `[camera]` table `c`; errors name it `e`.
+    fn camera(&self, e: &str, c: &CameraDoc) -> Result<Camera, SceneError> {
         self.finite(e, "position", &c.position)?;
         self.finite(e, "look_at", &c.look_at)?;
         let up = c.up.unwrap_or([0.0, 1.0, 0.0]);

@@ -21,6 +21,7 @@ pub(super) struct SceneDoc {
     pub sphere: Vec<SphereDoc>,
     #[serde(default)]
     pub mesh: Vec<MeshDoc>,
+    pub animation: Option<AnimationDoc>,
 }
 
 /// `[render]`: every key optional, defaults from `Settings::default()`.
@@ -42,7 +43,7 @@ pub(super) struct RenderDoc {
 }
 
 /// `[camera]`.
-#[derive(Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CameraDoc {
     /// `"perspective"` (default) or `"orthographic"`.
@@ -124,4 +125,77 @@ pub(super) struct MeshDoc {
 pub(super) enum Scale {
     Uniform(f32),
     PerAxis([f32; 3]),
+}
+
+/// `[animation]`: the frame range and rate, and the keys of what moves.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct AnimationDoc {
+    /// How many frames, numbered from 0.
+    pub frames: u32,
+    pub fps: Option<FpsDoc>,
+    /// Every key's interpolation unless the key gives its own (default linear).
+    pub interpolation: Option<InterpolationDoc>,
+    #[serde(default)]
+    pub camera: Vec<CameraKeyDoc>,
+    #[serde(default)]
+    pub sphere: Vec<SphereKeyDoc>,
+    #[serde(default)]
+    pub mesh: Vec<MeshKeyDoc>,
+}
+
+/// `fps = 24` or `fps = [24000, 1001]` (numerator, denominator).
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a whole number of frames per second or [numerator, denominator], e.g. 24 or [24000, 1001]"
+)]
+pub(super) enum FpsDoc {
+    Whole(u32),
+    Ratio([u32; 2]),
+}
+
+/// A key's `interpolation`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum InterpolationDoc {
+    Linear,
+    Step,
+}
+
+/// `[[animation.camera]]`: the `[camera]` keys that can change over time, at one frame.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CameraKeyDoc {
+    pub frame: u32,
+    pub interpolation: Option<InterpolationDoc>,
+    pub position: Option<[f32; 3]>,
+    pub look_at: Option<[f32; 3]>,
+    pub up: Option<[f32; 3]>,
+    pub fov: Option<f32>,
+    pub aperture: Option<f32>,
+    pub focus_distance: Option<f32>,
+    pub height: Option<f32>,
+}
+
+/// `[[animation.sphere]]`: the named `[[sphere]]`'s `center` and `radius` at one frame.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SphereKeyDoc {
+    pub name: String,
+    pub frame: u32,
+    pub interpolation: Option<InterpolationDoc>,
+    pub center: Option<[f32; 3]>,
+    pub radius: Option<f32>,
+}
+
+/// `[[animation.mesh]]`: the named `[[mesh]]`'s `translate` and `rotate` at one frame.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MeshKeyDoc {
+    pub name: String,
+    pub frame: u32,
+    pub interpolation: Option<InterpolationDoc>,
+    pub translate: Option<[f32; 3]>,
+    pub rotate: Option<[f32; 3]>,
 }
