@@ -53,7 +53,11 @@ impl RenderArgs {
         let exposure = exposure.map_or("auto".to_string(), |ev| ev.to_string());
         let cryptomatte = self.passes.cryptomatte().ok().flatten();
         // Writing to a String cannot fail.
-        let _ = writeln!(s, "scene settings: {settings:?}");
+        // Every field of the settings (from Debug, so that a new field cannot be left out),
+        // each on its own line, so that a merge refusing tiles names just the ones that differ.
+        for field in top_level_fields(&format!("{settings:?}")) {
+            let _ = writeln!(s, "{field}");
+        }
         let _ = writeln!(s, "effects: {:?}", self.effects);
         let _ = writeln!(s, "accel: {:?}", self.accel);
         let _ = writeln!(s, "exposure: {exposure}");
@@ -64,5 +68,50 @@ impl RenderArgs {
         let _ = writeln!(s, "layout: {:?}", self.passes.layout());
         let _ = write!(s, "transparent: {}", self.passes.transparent());
         s
+    }
+}
+
+/// The `name: value` fields of a struct's one-line Debug text (`S { a: 1, b: V(1, 2) }`),
+/// split at the commas outside any bracket; the whole text when it has no braces.
+fn top_level_fields(debug: &str) -> Vec<String> {
+    let (Some(open), Some(close)) = (debug.find('{'), debug.rfind('}')) else {
+        return vec![debug.to_string()];
+    };
+    let mut fields = Vec::new();
+    let (mut depth, mut field) = (0i32, String::new());
+    for c in debug[open + 1..close].chars() {
+        match c {
+            '(' | '[' | '{' => depth += 1,
+            ')' | ']' | '}' => depth -= 1,
+            ',' if depth == 0 => {
+                fields.push(field.trim().to_string());
+                field.clear();
+                continue;
+            }
+            _ => {}
+        }
+        field.push(c);
+    }
+    if !field.trim().is_empty() {
+        fields.push(field.trim().to_string());
+    }
+    fields
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fields_split_outside_brackets_only() {
+        let text = format!("{:?}", Settings::default());
+        let fields = top_level_fields(&text);
+        assert!(fields.iter().any(|f| f == "width: 640"), "{fields:?}");
+        assert!(
+            fields.iter().any(|f| f.starts_with("ambient: Vec3(")),
+            "{fields:?}"
+        );
+        assert!(fields.iter().all(|f| f.contains(": ")), "{fields:?}");
+        assert_eq!(top_level_fields("Inner(1, 2)"), ["Inner(1, 2)"]);
     }
 }

@@ -127,7 +127,7 @@ fn check_same_render(first: &TileFile, tile: &TileFile) -> Result<(), FarmError>
             "the scene (lumis/sceneHash, a hash of its files)",
         ),
         (ATTR_SEED, "the seed (lumis/seed)"),
-        (ATTR_SETTINGS, "the render settings (lumis/settings)"),
+        (ATTR_SETTINGS, "the settings record (lumis/settings)"),
         (ATTR_RENDERER, "the lumis version (lumis/renderer)"),
         // The frame poses the scene after it is loaded, so the scene hash cannot see it.
         (ATTR_FRAME, "the frame of the animation (lumis/frame)"),
