@@ -1,11 +1,16 @@
 //! `lumis merge TILE.exr... -o FULL.exr`: the tiles of a farm render (`lumis render --tile`)
 //! assembled into the image a single render writes (see `lumis::farm`).
 
+use super::values::{DisplayArg, TonemapArg};
 use anyhow::{Result, bail};
 use clap::Args;
+use lumis::farm::merge::Merged;
+use lumis::film::{Film, PixelAov};
 use lumis::formats::{InputFile, file_id};
-use lumis::output::{PlannedOutput, StagedOutputs, prepare_outputs};
-use std::path::PathBuf;
+use lumis::output::{
+    DisplayTransform, PlannedOutput, StagedOutputs, Tonemap, encode_png_with, prepare_outputs,
+};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Options of `lumis merge`.
@@ -18,6 +23,17 @@ pub struct MergeArgs {
     /// The merged EXR (written atomically: an existing file is replaced only by a complete one).
     #[arg(short, long, value_name = "FULL.exr")]
     output: PathBuf,
+    /// Also write a PNG preview, as `lumis render --png` would have (byte for byte, with the
+    /// same --tonemap and --display).
+    #[arg(long, value_name = "FILE.png")]
+    png: Option<PathBuf>,
+    /// The PNG's tone curve (as `lumis render --tonemap`).
+    #[arg(long, value_enum, default_value_t = TonemapArg::None, requires = "png")]
+    tonemap: TonemapArg,
+    /// The PNG's display transform; default: the render's (its scene's `display`, recorded in
+    /// the tiles).
+    #[arg(long, value_enum, requires = "png")]
+    display: Option<DisplayArg>,
     /// No summary.
     #[arg(short, long)]
     quiet: bool,
@@ -26,28 +42,40 @@ pub struct MergeArgs {
 /// Checks, merges and writes.
 pub fn run(args: &MergeArgs) -> Result<()> {
     let t = Instant::now();
-    let is_exr = args
-        .output
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if !is_exr {
+    let has_extension = |p: &Path, ext: &str| {
+        p.extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+    };
+    if !has_extension(&args.output, "exr") {
         bail!(
             "-o {}: the merged image is an EXR; give a file name ending in .exr",
             args.output.display()
         );
     }
+    if let Some(png) = args.png.as_deref().filter(|p| !has_extension(p, "png")) {
+        bail!("--png {}: the file name must end in .png", png.display());
+    }
     // Before any tile is decoded: a missing directory, or an output that is one of the tiles,
     // fails at once.
     let inputs: Vec<InputFile> = args.tiles.iter().map(|p| input_file(p.clone())).collect();
-    let planned = [PlannedOutput {
+    let mut planned = vec![PlannedOutput {
         flag: "-o",
         path: &args.output,
     }];
+    if let Some(png) = &args.png {
+        planned.push(PlannedOutput {
+            flag: "--png",
+            path: png,
+        });
+    }
     prepare_outputs(&planned, &inputs)?;
     let merged = lumis::farm::merge_tiles(&args.tiles)?;
     let mut staged = StagedOutputs::new();
     staged.stage_bytes(&args.output, &merged.bytes)?;
+    if let Some(png) = &args.png {
+        staged.stage_bytes(png, &preview(args, png, &merged)?)?;
+    }
     staged.commit()?;
     if !args.quiet {
         let (w, h) = merged.size;
@@ -62,8 +90,25 @@ pub fn run(args: &MergeArgs) -> Result<()> {
             args.output.display(),
             t.elapsed().as_secs_f64()
         );
+        if let Some(png) = &args.png {
+            eprintln!("wrote {}", png.display());
+        }
     }
     Ok(())
+}
+
+/// The PNG of the merged image: the exposed film a single render would have encoded.
+fn preview(args: &MergeArgs, path: &Path, merged: &Merged) -> Result<Vec<u8>> {
+    let (w, h) = merged.size;
+    let mut film = Film::new(w, h);
+    for (i, &p) in merged.rgba.iter().enumerate() {
+        let i = i as u32;
+        film.set(i % w, i / w, p, PixelAov::MISS);
+    }
+    let display = args.display.map_or(merged.display, DisplayTransform::from);
+    let tonemap = Tonemap::from(args.tonemap);
+    // The colour is exposed already, as a single render's film is when its PNG is encoded.
+    Ok(encode_png_with(path, &film, 0.0, display, tonemap)?)
 }
 
 /// A tile as an input of the run, so that `-o` cannot name one of them (also through a link).

@@ -61,8 +61,9 @@ pub(crate) use self::header_order::sorted_header;
 pub use self::layout::ChannelLayout;
 pub use self::png::{encode_png_with, write_png, write_png_with};
 pub use self::provenance::{
-    ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_EXPOSURE,
-    ATTR_TILE_RGBA, RenderIdentity, TILE_ATTR_PREFIX, TILE_EXPOSURE_AUTO, TileHeader,
+    ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_DISPLAY,
+    ATTR_TILE_EXPOSURE, ATTR_TILE_RGBA, RenderIdentity, TILE_ATTR_PREFIX, TILE_EXPOSURE_AUTO,
+    TileHeader,
 };
 pub use self::tonemap::Tonemap;
 

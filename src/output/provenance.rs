@@ -14,6 +14,7 @@
 //! | `lumis/tileExposure`  | string | the exposure the merge applies: `auto` or EV         |
 //! | `lumis/tileRgba`      | string | how the merge stores RGBA: `half` or `float`         |
 //! | `lumis/tileBeauty`    | string | the names of the R, G, B, A channels, comma-separated |
+//! | `lumis/tileDisplay`   | string | the PNG display transform of the render: `srgb` or `clamp` |
 //!
 //! A tile's RGBA is the film's linear float before exposure: automatic exposure is a function
 //! of the whole image, so only the merge can compute it, and applying exposure and the half
@@ -21,6 +22,7 @@
 
 use ::exr::prelude::{AttributeValue, SmallVec, Text};
 
+use super::display::DisplayTransform;
 use super::layout::ChannelLayout;
 use crate::farm::TileSpec;
 
@@ -38,6 +40,8 @@ pub const ATTR_TILE_EXPOSURE: &str = "lumis/tileExposure";
 pub const ATTR_TILE_RGBA: &str = "lumis/tileRgba";
 /// String attribute of a tile: the R, G, B, A channel names (after the layout's renaming).
 pub const ATTR_TILE_BEAUTY: &str = "lumis/tileBeauty";
+/// String attribute of a tile: the display transform a PNG of the merge uses by default.
+pub const ATTR_TILE_DISPLAY: &str = "lumis/tileDisplay";
 /// What every tile-only attribute's name starts with; the merge drops them all.
 pub const TILE_ATTR_PREFIX: &str = "lumis/tile";
 
@@ -60,6 +64,8 @@ pub struct TileHeader {
     pub spec: TileSpec,
     /// The exposure in stops the merge applies; `None`: automatic, over the whole image.
     pub exposure: Option<f32>,
+    /// The render's PNG display transform, for a PNG preview of the merge.
+    pub display: DisplayTransform,
 }
 
 /// The `exposure` value of [`ATTR_TILE_EXPOSURE`] for automatic exposure.
@@ -101,6 +107,7 @@ pub(super) fn attributes(
             text(if float_rgba { "float" } else { "half" }),
         ));
         out.push((ATTR_TILE_BEAUTY, text(&beauty.join(","))));
+        out.push((ATTR_TILE_DISPLAY, text(tile.display.name())));
     }
     out.into_iter()
         .map(|(name, value)| (Text::from(name), value))

@@ -166,3 +166,44 @@ fn a_frame_of_an_animation() {
     ];
     assert_identical(dir.path(), "orbit", &[3], &args);
 }
+
+/// `lumis merge --png` writes the PNG `lumis render --png` writes: the display transform
+/// recorded in the tiles (clamp for a `.scn` scene), the same --tonemap, automatic exposure.
+#[test]
+fn the_png_preview_is_the_single_renders() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scn = root().join("tests/fixtures/scn");
+    let scn = super::common::files::files_under(&scn, &["scn"]).remove(0);
+    let knot = root().join("assets/knot.obj");
+    for (name, scene, tonemap) in [
+        ("scn", scn.to_str().unwrap(), "none"),
+        ("knot", knot.to_str().unwrap(), "filmic"),
+        ("default", "", "filmic"),
+    ] {
+        let mut args = vec!["--width", "32", "--height", "40", "--tonemap", tonemap];
+        if !scene.is_empty() {
+            args.push(scene);
+        }
+        let mut single = vec!["render", "-q", "-o", "s.exr", "--png", "s.png"];
+        single.extend_from_slice(&args);
+        assert_ok(&super::lumis(d, &single));
+        let tiles = render_tiles(d, name, 3, &args);
+        let mut merge_args = vec![
+            "merge",
+            "-q",
+            "-o",
+            "m.exr",
+            "--png",
+            "m.png",
+            "--tonemap",
+            tonemap,
+        ];
+        merge_args.extend(tiles.iter().map(|p| p.to_str().unwrap()));
+        assert_ok(&super::lumis(d, &merge_args));
+        for (a, b) in [("s.exr", "m.exr"), ("s.png", "m.png")] {
+            let same = std::fs::read(d.join(a)).unwrap() == std::fs::read(d.join(b)).unwrap();
+            assert!(same, "{name}: {b} differs from the single render's {a}");
+        }
+    }
+}

@@ -224,6 +224,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let tile = args.window.tile.map(|spec| TileHeader {
         spec,
         exposure: fixed_exposure,
+        display: scene.settings().display,
     });
     let exposure = match fixed_exposure {
         Some(ev) => ev,

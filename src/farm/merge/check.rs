@@ -12,11 +12,19 @@ use super::read::TileFile;
 use crate::farm::FarmError;
 use crate::output::{
     ATTR_FRAME, ATTR_PARTIAL, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SCENE_HASH, ATTR_SEED,
-    ATTR_SETTINGS, TILE_ATTR_PREFIX,
+    ATTR_SETTINGS, ATTR_TILE, TILE_ATTR_PREFIX,
 };
 
-/// Whether attribute `name` may differ between the tiles of one render.
+/// Whether attribute `name` may differ between the tiles of one render: the index, the
+/// timing, the manifests (merged). The other tile attributes say how to finish the image and
+/// must agree.
 pub fn varies_per_tile(name: &str) -> bool {
+    name == ATTR_TILE || name == ATTR_RENDER_SECONDS || is_manifest(name)
+}
+
+/// Whether the merged file leaves out attribute `name` (or writes it anew): the tile's own,
+/// the timing (summed), the manifests (merged).
+pub fn left_out_of_merge(name: &str) -> bool {
     name.starts_with(TILE_ATTR_PREFIX) || name == ATTR_RENDER_SECONDS || is_manifest(name)
 }
 

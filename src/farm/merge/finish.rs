@@ -12,17 +12,27 @@ use crate::farm::FarmError;
 use crate::film::expose_rgba;
 use crate::math::Vec4;
 use crate::output::{
-    ATTR_TILE_BEAUTY, ATTR_TILE_EXPOSURE, ATTR_TILE_RGBA, TILE_EXPOSURE_AUTO, auto_exposure_of,
-    half_rgba,
+    ATTR_TILE_BEAUTY, ATTR_TILE_DISPLAY, ATTR_TILE_EXPOSURE, ATTR_TILE_RGBA, DisplayTransform,
+    TILE_EXPOSURE_AUTO, auto_exposure_of, half_rgba,
 };
 use crate::scene::limits::MAX_EXPOSURE;
 
-/// The exposure the merge applied.
-pub struct Exposure {
-    /// In stops.
+/// How the merge finished the colour.
+pub struct Finished {
+    /// The exposure applied, in stops.
     pub stops: f32,
     /// Computed over the whole image.
     pub automatic: bool,
+    /// The exposed RGBA in float (before the half conversion).
+    pub rgba: Vec<Vec4>,
+    /// The render's PNG display transform.
+    pub display: DisplayTransform,
+}
+
+/// What the exposure attribute said.
+struct Exposure {
+    stops: f32,
+    automatic: bool,
 }
 
 /// An error naming the first tile, whose header describes the finishing.
@@ -38,7 +48,7 @@ fn format(first: &TileFile, message: String) -> FarmError {
 pub fn finish_rgba(
     first: &TileFile,
     channels: &mut [AnyChannel<FlatSamples>],
-) -> Result<Exposure, FarmError> {
+) -> Result<Finished, FarmError> {
     let header = &first.header;
     let beauty = text(header, ATTR_TILE_BEAUTY).unwrap_or_default();
     let names: Vec<&str> = beauty.split(',').collect();
@@ -99,6 +109,16 @@ pub fn finish_rgba(
         },
         None => return Err(format(first, format!("no {ATTR_TILE_EXPOSURE} attribute"))),
     };
+    let display = text(header, ATTR_TILE_DISPLAY);
+    let display = DisplayTransform::ALL
+        .into_iter()
+        .find(|d| Some(d.name()) == display.as_deref())
+        .ok_or_else(|| {
+            format(
+                first,
+                format!("{ATTR_TILE_DISPLAY} = {display:?}: expected \"srgb\" or \"clamp\""),
+            )
+        })?;
     expose_rgba(&mut rgba, exposure.stops);
     let half = match text(header, ATTR_TILE_RGBA).as_deref() {
         Some("half") => true,
@@ -118,7 +138,12 @@ pub fn finish_rgba(
             FlatSamples::F32(values.collect())
         };
     }
-    Ok(exposure)
+    Ok(Finished {
+        stops: exposure.stops,
+        automatic: exposure.automatic,
+        rgba,
+        display,
+    })
 }
 
 /// An error when a tile's channel holds NaN (lumis writes none; a damaged tile might).

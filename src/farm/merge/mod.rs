@@ -20,9 +20,11 @@ use ::exr::prelude::{
     Text, Vec2, WritableImage,
 };
 
-use self::check::{check_tiles, varies_per_tile};
+use self::check::{check_tiles, left_out_of_merge};
 use self::read::TileFile;
 use super::FarmError;
+use crate::math::Vec4;
+use crate::output::DisplayTransform;
 
 /// A merged image.
 #[derive(Debug)]
@@ -33,6 +35,10 @@ pub struct Merged {
     pub exposure: f32,
     /// Whether it was computed over the whole image (automatic exposure).
     pub auto_exposure: bool,
+    /// The exposed linear premultiplied RGBA in float, row-major (for a PNG preview).
+    pub rgba: Vec<Vec4>,
+    /// The render's PNG display transform.
+    pub display: DisplayTransform,
     /// The image size.
     pub size: (u32, u32),
     /// How many tiles went in.
@@ -71,15 +77,15 @@ pub fn merge_tiles(paths: &[PathBuf]) -> Result<Merged, FarmError> {
             copy_into(&mut full.sample_data, &part.sample_data, offset);
         }
     }
-    let exposure = finish::finish_rgba(first, &mut channels)?;
+    let finished = finish::finish_rgba(first, &mut channels)?;
 
     let mut layer_attributes = first.header.own_attributes.clone();
     layer_attributes.layer_position = first.header.shared_attributes.display_window.position;
     let other = &mut layer_attributes.other;
-    other.retain(|name, _| !varies_per_tile(&name.to_string()));
+    other.retain(|name, _| !left_out_of_merge(&name.to_string()));
     other.insert(
         Text::from(crate::output::ATTR_EXPOSURE),
-        AttributeValue::F32(exposure.stops),
+        AttributeValue::F32(finished.stops),
     );
     if let Some(seconds) = total_seconds(&tiles) {
         other.insert(
@@ -112,8 +118,10 @@ pub fn merge_tiles(paths: &[PathBuf]) -> Result<Merged, FarmError> {
     let bytes = crate::output::sorted_header(&encoded).unwrap_or(encoded);
     Ok(Merged {
         bytes,
-        exposure: exposure.stops,
-        auto_exposure: exposure.automatic,
+        exposure: finished.stops,
+        auto_exposure: finished.automatic,
+        rgba: finished.rgba,
+        display: finished.display,
         size: (width, height),
         tiles: first.spec.count,
     })
