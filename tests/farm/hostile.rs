@@ -19,16 +19,27 @@ const SIZE: [&str; 4] = ["--width", "16", "--height", "24"];
 /// A one-part EXR of `channels` FLOAT channels holding one pixel at (0, 0), marked as tile
 /// 0/1 of a `display` image.
 fn handmade_tile(path: &Path, display: (usize, usize), channels: usize) {
+    handmade_layer(path, display, (1, 1), channels);
+}
+
+/// The same with a `layer` pixels data window.
+fn handmade_layer(path: &Path, display: (usize, usize), layer: (usize, usize), channels: usize) {
+    let pixels = layer.0 * layer.1;
     let mut attributes = LayerAttributes::default();
     attributes.other.insert(
         Text::from("lumis/tile"),
         AttributeValue::Text(Text::from("0/1")),
     );
     let list = (0..channels)
-        .map(|i| AnyChannel::new(format!("c{i:05}").as_str(), FlatSamples::F32(vec![0.5])))
+        .map(|i| {
+            AnyChannel::new(
+                format!("c{i:05}").as_str(),
+                FlatSamples::F32(vec![0.5; pixels]),
+            )
+        })
         .collect();
     let layer = Layer::new(
-        Vec2(1, 1),
+        Vec2(layer.0, layer.1),
         attributes,
         Encoding {
             compression: Compression::ZIP16,
@@ -65,6 +76,13 @@ fn headers_that_ask_for_too_much_are_refused_before_decoding() {
     let err = refused(&merge(d, &[d.join("many.exr")], "m.exr"));
     assert!(
         err.contains("many.exr") && err.contains("3000 channels"),
+        "{err}"
+    );
+    // A data window larger than the image it is a tile of.
+    handmade_layer(&d.join("over.exr"), (4, 4), (64, 2), 1);
+    let err = refused(&merge(d, &[d.join("over.exr")], "m.exr"));
+    assert!(
+        err.contains("over.exr") && err.contains("64x2 data window"),
         "{err}"
     );
     // Right size, but without the tile's finishing attributes.

@@ -84,6 +84,14 @@ impl TileFile {
                  {MAX_PIXELS} in all"
             )));
         }
+        // The data window is what gets decoded: no larger than the image it is a part of.
+        let layer = header.layer_size;
+        if layer.0 as u64 > w || layer.1 as u64 > h {
+            return Err(format(format!(
+                "a {}x{} data window in a {w}x{h} display window; a tile is a part of its image",
+                layer.0, layer.1
+            )));
+        }
         if channels > MAX_CHANNELS || w * h * channels as u64 > MAX_SAMPLES {
             return Err(format(format!(
                 "{channels} channels of {w}x{h} pixels: more than a merge holds \
