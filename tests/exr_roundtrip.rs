@@ -269,8 +269,10 @@ fn directory_target_fails_without_leftovers() {
         write_exr(&target, &film(), &camera(), &meta(false)),
         write_png(&target, &film(), 0.0, DisplayTransform::Srgb),
     ] {
+        // Refused before a temporary file is made: a directory is not a regular file.
         let err = result.unwrap_err();
-        assert!(matches!(err, OutputError::Persist { .. }), "{err:?}");
+        assert!(matches!(err, OutputError::NotRegular { .. }), "{err:?}");
+        assert!(err.to_string().contains("(a directory)"), "{err}");
         assert_eq!(common::files::dir_entries(dir.path()), ["sub"]);
         assert!(common::files::dir_entries(&target).is_empty());
     }

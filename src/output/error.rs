@@ -1,7 +1,7 @@
 //! Why an output could not be written, or may not be: every variant names the target path
 //! (and, for the checks before a run, the flag that gave it).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Why an output could not be written. Every variant names the target path.
 #[derive(Debug, thiserror::Error)]
@@ -77,7 +77,7 @@ pub enum OutputError {
         source: super::NonFinite,
     },
     /// The finished temporary file could not be renamed onto the target (for example, the
-    /// target is a directory). The temporary file has been removed.
+    /// target became a directory after the last check). The temporary file has been removed.
     #[error("cannot move the finished image into place at {}", path.display())]
     Persist {
         /// Target path.
@@ -87,14 +87,63 @@ pub enum OutputError {
         source: std::io::Error,
     },
     /// The directory an output goes in does not exist (or is not a directory).
-    #[error("{flag} {}: the directory {} does not exist", path.display(), dir.display())]
+    #[error("{flag} {}: the directory {} does not exist", shown(path, resolved), dir.display())]
     NoDirectory {
         /// The option that named the output (`-o`, `--png`, ...).
         flag: String,
         /// Target path.
         path: PathBuf,
-        /// Its directory.
+        /// Where its symlinks lead, when it is a (dangling) symlink.
+        resolved: Option<PathBuf>,
+        /// The directory of the file to create.
         dir: PathBuf,
+    },
+    /// The output is, or its symlinks lead to, a FIFO, a device, a socket or a directory: it
+    /// is refused, not opened or replaced.
+    #[error(
+        "{}{}: not a regular file ({kind}); outputs are written only to regular files (or \
+         through symlinks to them), so it was left as it is",
+        lead(flag),
+        shown(path, resolved)
+    )]
+    NotRegular {
+        /// The option that named the output; `None` for the check when it is written.
+        flag: Option<String>,
+        /// Target path.
+        path: PathBuf,
+        /// Where its symlinks lead, when it is a symlink.
+        resolved: Option<PathBuf>,
+        /// What the file is: `a FIFO`, `a character device`, ...
+        kind: &'static str,
+    },
+    /// The output's symlinks could not be followed: a loop, a link that may not be trusted,
+    /// or an error examining them.
+    #[error("{}{}: cannot tell which file to write", lead(flag), path.display())]
+    Unresolvable {
+        /// The option that named the output; `None` for the check when it is written.
+        flag: Option<String>,
+        /// Target path.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The output's symlinks lead somewhere else than when it was staged: it changed during
+    /// the run, and no output was renamed into place.
+    #[error(
+        "cannot write {}: it changed during the run (it now leads to {}, not {}), so no \
+         output was written",
+        path.display(),
+        now.display(),
+        was.display()
+    )]
+    TargetChanged {
+        /// Target path.
+        path: PathBuf,
+        /// The file it led to when staged.
+        was: PathBuf,
+        /// The file it leads to now.
+        now: PathBuf,
     },
     /// The output path is an existing directory.
     #[error("{flag} {}: is a directory", path.display())]
@@ -144,4 +193,20 @@ pub enum OutputError {
         /// Its path.
         other: PathBuf,
     },
+}
+
+/// How an error starts: with the option that named the output, or `cannot write` once staged.
+fn lead(flag: &Option<String>) -> String {
+    match flag {
+        Some(flag) => format!("{flag} "),
+        None => "cannot write ".to_owned(),
+    }
+}
+
+/// An output path as messages show it: with where its symlinks lead, if it is one.
+fn shown(path: &Path, resolved: &Option<PathBuf>) -> String {
+    match resolved {
+        Some(to) => format!("{} (a symlink leading to {})", path.display(), to.display()),
+        None => path.display().to_string(),
+    }
 }

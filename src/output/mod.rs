@@ -6,7 +6,8 @@
 //! never destroys an existing one. A run with several outputs stages them all in one
 //! [`StagedOutputs`] and renames them only when every one was written, after checking them
 //! up front with [`prepare_outputs`] (directories exist and are writable, no output is an input
-//! of the run or another output).
+//! of the run or another output, none is a FIFO, device or directory). A symlink to a regular
+//! file is written through (`target.rs`).
 //!
 //! ```toml
 //! [output]
@@ -30,6 +31,7 @@ mod png;
 mod preflight;
 mod provenance;
 mod staged;
+mod target;
 mod temps;
 mod tonemap;
 

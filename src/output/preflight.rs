@@ -1,12 +1,17 @@
 //! The checks on a run's outputs made before any work starts, so that a long render cannot end
 //! in an error it could have given at once, and so that no output destroys an input:
 //!
-//! - the directory of every output exists and a file can be created in it (a probe temporary
-//!   file, deleted at once), and the output is not an existing directory;
+//! - the output is a regular file, a symlink (chain) leading to one, or nothing yet (a new
+//!   file, or a dangling symlink's end), never a FIFO, device, socket or directory, nor a link
+//!   to one ([`target`](super::target) decides, again when the output is written);
+//! - the directory of the file each output writes (for a symlink, the directory of the file it
+//!   leads to) exists and a file can be created in it (a probe temporary file, deleted at
+//!   once);
 //! - no output is a file the run read ([`InputFile`]), and no two outputs are the same file.
 //!   Files are compared by the canonical path of their directory plus their name (so `./x`,
 //!   `x` and `dir/../x` agree) and, where the output already exists, by device and inode (so a
-//!   hard link or a symlink to an input is caught too).
+//!   hard link or a symlink to an input is caught too). A symlink is compared as the file it
+//!   leads to.
 //!
 //! It also removes the stale temporary files of killed runs in those directories
 //! ([`remove_stale_temps`](super::temps::remove_stale_temps)).
@@ -16,7 +21,7 @@ use std::path::{Path, PathBuf};
 
 use super::OutputError;
 use super::staged::directory_of;
-use super::temps;
+use super::{target, temps};
 use crate::formats::{InputFile, file_id};
 
 /// One output of a run: the option that named it (`-o`, `--png`, `--out`) and its path.
@@ -79,30 +84,35 @@ pub fn prepare_outputs(
     Ok(())
 }
 
-/// The identity of `out`, checking that its directory exists and that it is no directory.
+/// The identity of the file `out` writes, checking that it is a regular file or none (module
+/// docs) and that its directory exists.
 fn identify(out: &PlannedOutput<'_>) -> Result<Identity, OutputError> {
-    let dir = directory_of(out.path);
-    let no_dir = || OutputError::NoDirectory {
+    let no_dir = |resolved: Option<&Path>, dir: &Path| OutputError::NoDirectory {
         flag: out.flag.to_string(),
         path: out.path.to_path_buf(),
+        resolved: resolved.map(Path::to_path_buf),
         dir: dir.to_path_buf(),
     };
     let is_dir = || OutputError::IsDirectory {
         flag: out.flag.to_string(),
         path: out.path.to_path_buf(),
     };
-    if !dir.is_dir() {
-        return Err(no_dir());
+    // The directory the user typed first: a typo there is the likeliest problem.
+    if !directory_of(out.path).is_dir() {
+        return Err(no_dir(None, directory_of(out.path)));
     }
     // `x/..` or `/` names a directory, never a file to write.
-    let name = out.path.file_name().ok_or_else(is_dir)?;
-    let canonical_dir = std::fs::canonicalize(dir).map_err(|_| no_dir())?;
-    // Following symlinks: an output that is a link to an input is refused too, although the
-    // rename would only replace the link.
-    let meta = std::fs::metadata(out.path).ok();
-    if meta.as_ref().is_some_and(|m| m.is_dir()) {
-        return Err(is_dir());
+    out.path.file_name().ok_or_else(is_dir)?;
+    let target = target::resolve(out.path, Some(out.flag))?;
+    let resolved = target.linked.then_some(target.file.as_path());
+    let dir = directory_of(&target.file);
+    // A dangling symlink creates the file it names, so that file's directory must exist.
+    if !dir.is_dir() {
+        return Err(no_dir(resolved, dir));
     }
+    let name = target.file.file_name().ok_or_else(is_dir)?;
+    let canonical_dir = std::fs::canonicalize(dir).map_err(|_| no_dir(resolved, dir))?;
+    let meta = std::fs::metadata(&target.file).ok();
     Ok(Identity {
         path: canonical_dir.join(name),
         id: meta.as_ref().and_then(file_id),
@@ -167,6 +177,8 @@ mod tests {
         let err = prepare_outputs(&[out("--png", &missing)], &[]).unwrap_err();
         assert!(matches!(err, OutputError::NoDirectory { .. }), "{err}");
         let err = prepare_outputs(&[out("-o", dir.path())], &[]).unwrap_err();
+        assert!(matches!(err, OutputError::NotRegular { .. }), "{err}");
+        let err = prepare_outputs(&[out("-o", &dir.path().join(".."))], &[]).unwrap_err();
         assert!(matches!(err, OutputError::IsDirectory { .. }), "{err}");
         // Nothing was left behind by the probes.
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);

@@ -7,11 +7,19 @@
 //! any of them (a full disk, a missing directory) leaves every existing file unchanged and no
 //! temporary file behind.
 //!
+//! The file replaced is the one the target path leads to ([`target`]): a symlink to a regular
+//! file is written through, and a target that is (or leads to) a FIFO, a device, a socket or a
+//! directory is refused, both when it is staged and again, for every output, before the first
+//! rename, so a target that changed during the run stops the whole commit.
+//!
 //! What this cannot promise: the renames of several files are not one atomic step. A crash or
 //! a failed rename between two renames leaves the earlier targets new and the later ones old;
 //! each file on its own is always either the complete old or the complete new one, never torn.
 //!
+//! A target swapped for a FIFO between that last check and its rename is still replaced.
+//!
 //! [`temps`]: super::temps
+//! [`target`]: super::target
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -20,6 +28,7 @@ use std::path::{Path, PathBuf};
 use tempfile::TempPath;
 
 use super::OutputError;
+use super::target::{self, Target};
 use super::temps;
 
 /// The writer an encoder gets: a buffered temporary file.
@@ -34,7 +43,10 @@ pub struct StagedOutputs {
 
 /// One finished temporary file and where it goes.
 struct Staged {
+    /// The path as given, for messages.
     target: PathBuf,
+    /// The file the rename replaces: `target` or where its symlinks led when staged.
+    file: PathBuf,
     /// `None` once renamed.
     temp: Option<TempPath>,
 }
@@ -54,15 +66,17 @@ impl StagedOutputs {
         Self::default()
     }
 
-    /// Runs `encode` against a new temporary file beside `path`, then flushes and syncs it.
-    /// On any error the temporary file is deleted; `path` is not touched either way until
-    /// [`commit`](Self::commit).
+    /// Runs `encode` against a new temporary file beside the file `path` leads to (itself, or
+    /// the end of its symlinks), then flushes and syncs it. On any error the temporary file is
+    /// deleted; `path` is not touched either way until [`commit`](Self::commit). A `path` that
+    /// is not a regular file, or leads to none, is refused before anything is created.
     pub fn stage<F>(&mut self, path: &Path, encode: F) -> Result<(), OutputError>
     where
         F: FnOnce(&mut TempWriter<'_>) -> Result<(), OutputError>,
     {
+        let Target { file, .. } = target::resolve(path, None)?;
         let mut temp =
-            temps::create_in(directory_of(path)).map_err(|source| OutputError::CreateTemp {
+            temps::create_in(directory_of(&file)).map_err(|source| OutputError::CreateTemp {
                 path: path.to_path_buf(),
                 source,
             })?;
@@ -72,6 +86,7 @@ impl StagedOutputs {
         }
         self.staged.push(Staged {
             target: path.to_path_buf(),
+            file,
             temp: Some(temp.into_temp_path()),
         });
         Ok(())
@@ -93,14 +108,26 @@ impl StagedOutputs {
         self.staged.iter().map(|s| s.target.as_path())
     }
 
-    /// Renames every temporary file onto its target, in the order staged. If a rename fails,
-    /// the targets before it are already replaced (see the module docs), the rest are left
+    /// Renames every temporary file onto its target, in the order staged. Every target is
+    /// first checked again (module docs): if one is no longer a regular file or leads to
+    /// another file than when it was staged, nothing is renamed. If a rename fails, the
+    /// targets before it are already replaced (see the module docs), the rest are left
     /// unchanged and their temporary files deleted.
     pub fn commit(mut self) -> Result<(), OutputError> {
+        for s in self.staged.iter().filter(|s| s.temp.is_some()) {
+            let now = target::resolve(&s.target, None)?;
+            if now.file != s.file {
+                return Err(OutputError::TargetChanged {
+                    path: s.target.clone(),
+                    was: s.file.clone(),
+                    now: now.file,
+                });
+            }
+        }
         for s in &mut self.staged {
             let Some(temp) = s.temp.take() else { continue };
             let temp_name = temp.to_path_buf();
-            match temp.persist(&s.target) {
+            match temp.persist(&s.file) {
                 Ok(()) => temps::unregister(&temp_name),
                 Err(e) => {
                     // Put it back so that dropping `self` deletes it.
@@ -144,7 +171,7 @@ pub fn directory_of(path: &Path) -> &Path {
 
 /// Writes one output on its own: [`StagedOutputs::stage`] then [`StagedOutputs::commit`]. The
 /// target is either the old file or the complete new one, never a truncated mix. A symlink at
-/// `path` is replaced, not written through.
+/// `path` is written through: the file it leads to is replaced, the link stays.
 pub fn write_atomically<F>(path: &Path, encode: F) -> Result<(), OutputError>
 where
     F: FnOnce(&mut TempWriter<'_>) -> Result<(), OutputError>,
@@ -227,6 +254,72 @@ mod tests {
         drop(staged);
         assert_eq!(std::fs::read(&a).unwrap(), b"old a");
         assert_eq!(entries(dir.path()), ["a.exr"]);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn writes_through_symlinks_into_the_linked_directory() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        std::fs::create_dir(d.join("real")).unwrap();
+        std::fs::write(d.join("real/a.exr"), b"old a").unwrap();
+        std::os::unix::fs::symlink("real/a.exr", d.join("link.exr")).unwrap();
+        std::os::unix::fs::symlink("real/b.png", d.join("dangling.png")).unwrap();
+        let mut staged = StagedOutputs::new();
+        staged.stage_bytes(&d.join("link.exr"), b"new a").unwrap();
+        staged
+            .stage_bytes(&d.join("dangling.png"), b"new b")
+            .unwrap();
+        // The temporary files sit beside the files they replace, not beside the links.
+        assert_eq!(
+            entries(&d.join("real")).len(),
+            3,
+            "{:?}",
+            entries(&d.join("real"))
+        );
+        staged.commit().unwrap();
+        assert_eq!(std::fs::read(d.join("real/a.exr")).unwrap(), b"new a");
+        assert_eq!(std::fs::read(d.join("real/b.png")).unwrap(), b"new b");
+        assert!(d.join("link.exr").symlink_metadata().unwrap().is_symlink());
+        assert_eq!(entries(&d.join("real")), ["a.exr", "b.png"]);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_target_changed_before_the_commit_stops_every_rename() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let (a, b) = (d.join("a.exr"), d.join("b.png"));
+        std::fs::write(&a, b"old a").unwrap();
+        std::fs::write(d.join("x.png"), b"x").unwrap();
+        std::fs::write(d.join("y.png"), b"y").unwrap();
+        for change in ["directory", "relink"] {
+            std::os::unix::fs::symlink("x.png", &b).unwrap();
+            let mut staged = StagedOutputs::new();
+            staged.stage_bytes(&a, b"new a").unwrap();
+            staged.stage_bytes(&b, b"new b").unwrap();
+            std::fs::remove_file(&b).unwrap();
+            if change == "directory" {
+                std::fs::create_dir(&b).unwrap();
+            } else {
+                std::os::unix::fs::symlink("y.png", &b).unwrap();
+            }
+            let err = staged.commit().unwrap_err();
+            let expected = match change {
+                "directory" => matches!(err, OutputError::NotRegular { .. }),
+                _ => matches!(err, OutputError::TargetChanged { .. }),
+            };
+            assert!(expected, "{change}: {err}");
+            assert_eq!(std::fs::read(&a).unwrap(), b"old a", "{change}");
+            assert_eq!(std::fs::read(d.join("x.png")).unwrap(), b"x");
+            assert_eq!(std::fs::read(d.join("y.png")).unwrap(), b"y");
+            assert_eq!(entries(d), ["a.exr", "b.png", "x.png", "y.png"], "{change}");
+            if change == "directory" {
+                std::fs::remove_dir(&b).unwrap();
+            } else {
+                std::fs::remove_file(&b).unwrap();
+            }
+        }
     }
 
     #[test]
