@@ -145,7 +145,8 @@ pub enum OutputError {
         /// The file it leads to now.
         now: PathBuf,
     },
-    /// The output path is an existing directory.
+    /// The output path names a directory by its form (`x/..`, `/`); an existing directory at
+    /// a file name is [`NotRegular`](Self::NotRegular).
     #[error("{flag} {}: is a directory", path.display())]
     IsDirectory {
         /// The option that named the output.
