@@ -3,6 +3,7 @@
 pub mod accuracy;
 pub mod effects;
 pub mod load;
+mod outputs;
 pub mod paper;
 
 use anyhow::Result;

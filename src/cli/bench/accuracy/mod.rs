@@ -10,10 +10,11 @@ pub mod report;
 pub mod scenes;
 pub mod sweep;
 
-use anyhow::{Context, Result, bail};
+use super::outputs::BenchOutputs;
+use anyhow::{Result, bail};
 use clap::Args;
 use report::{csv, markdown, summarise};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Options of `lumis bench accuracy`.
 #[derive(Args, Debug)]
@@ -50,14 +51,21 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     if args.width == 0 || args.height == 0 || args.rounds == 0 {
         bail!("--width, --height and --rounds must be at least 1");
     }
-    let list = if args.scenes.is_empty() {
-        scenes::default_set(&args.paper_scenes)?
-    } else {
-        args.scenes
-            .iter()
-            .map(|s| scenes::resolve(s, &args.paper_scenes))
-            .collect::<Result<Vec<_>>>()?
-    };
+    let outputs = BenchOutputs::prepare(&[
+        ("--csv", args.csv.as_deref()),
+        ("--plot", args.plot.as_deref()),
+    ])?;
+    let plot_format = args.plot.as_deref().map(plot::plot_format).transpose()?;
+    let list = outputs.load(|| {
+        if args.scenes.is_empty() {
+            scenes::default_set(&args.paper_scenes)
+        } else {
+            args.scenes
+                .iter()
+                .map(|s| scenes::resolve(s, &args.paper_scenes))
+                .collect()
+        }
+    })?;
     let opts = sweep::SweepOptions {
         width: args.width,
         height: args.height,
@@ -88,19 +96,26 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     );
     println!("{}", markdown(&summary));
     let text = csv(&rows);
-    if let Some(path) = &args.csv {
-        std::fs::write(path, &text).with_context(|| format!("writing {}", path.display()))?;
-    } else {
+    if args.csv.is_none() {
         println!("CSV:\n\n{text}");
     }
-    if let Some(path) = &args.plot {
-        let title = format!(
-            "lumis accuracy knobs: {} scenes at {}x{}",
-            list.len(),
-            args.width,
-            args.height
-        );
-        plot::write_plot(&summary, &title, path)?;
+    let title = format!(
+        "lumis accuracy knobs: {} scenes at {}x{}",
+        list.len(),
+        args.width,
+        args.height
+    );
+    let plot = match args.plot.as_deref().zip(plot_format) {
+        Some((path, format)) => Some((path, plot::encode_plot(&summary, &title, format)?)),
+        None => None,
+    };
+    // Both files, or (if either fails) neither.
+    let mut files: Vec<(&Path, &[u8])> = Vec::new();
+    if let Some(path) = &args.csv {
+        files.push((path, text.as_bytes()));
     }
-    Ok(())
+    if let Some((path, bytes)) = &plot {
+        files.push((path, bytes));
+    }
+    outputs.write(&files)
 }

@@ -36,37 +36,68 @@ fn register_font() -> Result<bool> {
     Ok(false)
 }
 
-/// Writes the plot to `path`: SVG or PNG by extension.
-pub fn write_plot(summary: &[Summary], title: &str, path: &Path) -> Result<()> {
+/// The two kinds of plot file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlotFormat {
+    Svg,
+    Png,
+}
+
+/// The format `path` asks for (by extension), with plotters' font registered: checked before
+/// the sweep, so a wrong name or a PNG with no font to draw its text fails at once.
+pub fn plot_format(path: &Path) -> Result<PlotFormat> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    let have_font = register_font()?;
+    let format = match ext.as_deref() {
+        Some("svg") => PlotFormat::Svg,
+        Some("png") => PlotFormat::Png,
+        _ => bail!("--plot {}: the plot must be .png or .svg", path.display()),
+    };
+    // The SVG names its font and draws without one.
+    if !register_font()? && format == PlotFormat::Png {
+        bail!(
+            "no TTF font found for the PNG plot (tried $LUMIS_PLOT_FONT and {}); set LUMIS_PLOT_FONT or write an .svg",
+            FONT_PATHS.join(", ")
+        );
+    }
+    Ok(format)
+}
+
+/// The plot's file content in `format` (from [`plot_format`], which registers the font).
+pub fn encode_plot(summary: &[Summary], title: &str, format: PlotFormat) -> Result<Vec<u8>> {
     let size = (960u32, 640u32);
-    match ext.as_deref() {
-        Some("svg") => {
-            let root = SVGBackend::new(path, size).into_drawing_area();
-            draw(&root, summary, title)?;
-            root.present().map_err(err)
-        }
-        Some("png") => {
-            if !have_font {
-                bail!(
-                    "no TTF font found for the PNG plot (tried $LUMIS_PLOT_FONT and {}); set LUMIS_PLOT_FONT or write an .svg",
-                    FONT_PATHS.join(", ")
-                );
+    match format {
+        PlotFormat::Svg => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+                draw(&root, summary, title)?;
+                root.present().map_err(err)?;
             }
+            Ok(svg.into_bytes())
+        }
+        PlotFormat::Png => {
             let mut buf = vec![0u8; (size.0 * size.1 * 3) as usize];
             {
                 let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
                 draw(&root, summary, title)?;
                 root.present().map_err(err)?;
             }
-            image::save_buffer(path, &buf, size.0, size.1, image::ExtendedColorType::Rgb8)
-                .map_err(|e| anyhow!("writing {}: {e}", path.display()))
+            // The encoder image::save_buffer uses for a .png, so the bytes are as they were.
+            let mut png = std::io::Cursor::new(Vec::new());
+            image::write_buffer_with_format(
+                &mut png,
+                &buf,
+                size.0,
+                size.1,
+                image::ExtendedColorType::Rgb8,
+                image::ImageFormat::Png,
+            )
+            .map_err(|e| anyhow!("encoding the PNG plot: {e}"))?;
+            Ok(png.into_inner())
         }
-        _ => bail!("{}: the plot must be .png or .svg", path.display()),
     }
 }
 

@@ -7,6 +7,7 @@ pub mod measure;
 mod tests;
 
 use super::file_name;
+use super::outputs::BenchOutputs;
 use super::paper::table::table_i_files;
 use anyhow::{Context, Result};
 use clap::Args;
@@ -42,19 +43,8 @@ pub struct EffectsArgs {
 
 /// Default decisions against `--effects all` on every scene, same run, interleaved rounds.
 pub fn run(args: &EffectsArgs) -> Result<()> {
-    let mut scenes: Vec<(String, lumis::scene::Scene)> = Vec::new();
-    if args.scenes.is_empty() {
-        scenes.push(("default".into(), lumis::formats::default_scene()?));
-        for f in table_i_files(&args.paper_scenes) {
-            scenes.push((file_name(&f), lumis::formats::load(&f)?));
-        }
-    } else {
-        for f in &args.scenes {
-            let scene =
-                lumis::formats::load(f).with_context(|| format!("loading {}", f.display()))?;
-            scenes.push((file_name(f), scene));
-        }
-    }
+    let outputs = BenchOutputs::prepare(&[("--csv", args.csv.as_deref())])?;
+    let scenes = outputs.load(|| load_scenes(args))?;
     let threads = crate::cli::threads::resolve(args.threads, false);
     let mut rows = Vec::new();
     for (name, mut scene) in scenes {
@@ -86,7 +76,25 @@ pub fn run(args: &EffectsArgs) -> Result<()> {
     let text = measure::csv(&rows);
     println!("CSV:\n\n{text}");
     if let Some(path) = &args.csv {
-        std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
+        outputs.write(&[(path, text.as_bytes())])?;
     }
     Ok(())
+}
+
+/// The scenes given, or the default scene and the paper's Table I scenes, with their names.
+fn load_scenes(args: &EffectsArgs) -> Result<Vec<(String, lumis::scene::Scene)>> {
+    let mut scenes = Vec::new();
+    if args.scenes.is_empty() {
+        scenes.push(("default".into(), lumis::formats::default_scene()?));
+        for f in table_i_files(&args.paper_scenes) {
+            scenes.push((file_name(&f), lumis::formats::load(&f)?));
+        }
+    } else {
+        for f in &args.scenes {
+            let scene =
+                lumis::formats::load(f).with_context(|| format!("loading {}", f.display()))?;
+            scenes.push((file_name(f), scene));
+        }
+    }
+    Ok(scenes)
 }

@@ -3,6 +3,7 @@
 pub mod table;
 
 use super::file_name;
+use super::outputs::BenchOutputs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::PathBuf;
@@ -36,6 +37,7 @@ pub fn run(args: &PaperArgs) -> Result<()> {
     if !(args.scale > 0.0 && args.scale <= 4.0) {
         bail!("--scale must be in (0, 4]");
     }
+    let outputs = BenchOutputs::prepare(&[("--csv", args.csv.as_deref())])?;
     let files: Vec<PathBuf> = table_i_files(&args.scenes)
         .into_iter()
         .filter(|f| {
@@ -68,13 +70,19 @@ pub fn run(args: &PaperArgs) -> Result<()> {
                 .join(", ")
         );
     }
+    // Every scene is loaded before the first measurement, so that a --csv naming one of their
+    // files is refused before the measuring, not after it.
+    let scenes = outputs.load(|| {
+        files
+            .iter()
+            .map(|f| Ok((file_name(f), lumis::formats::load(f)?)))
+            .collect::<Result<Vec<_>>>()
+    })?;
     let mut rows = Vec::new();
-    for file in &files {
-        let mut scene = lumis::formats::load(file)?;
+    for (name, mut scene) in scenes {
         // The paper's settings: 1 sample per pixel, 5 depth-of-field rays (the loader's defaults).
         let st = scene.settings_mut();
         (st.width, st.height, st.spp, st.lens_samples) = (w, h, 1, 5);
-        let name = file_name(file);
         for config in &configs {
             let m = measure(&scene, &name, config, args.repeat, None)
                 .with_context(|| format!("{name}: {}", config.label))?;
@@ -94,7 +102,7 @@ pub fn run(args: &PaperArgs) -> Result<()> {
     let text = csv(&rows);
     println!("CSV:\n\n{text}");
     if let Some(path) = &args.csv {
-        std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
+        outputs.write(&[(path, text.as_bytes())])?;
     }
     Ok(())
 }
