@@ -10,7 +10,7 @@ here="$(cd "$(dirname "$0")" && pwd)"
 repo="$(dirname "$here")"
 out="${1:-$here/corpus}"
 paper="${LUMIS_PAPER_SCENES:-$repo/../shared/paper-scenes}"
-mkdir -p "$out"/{toml,obj,mtl,gltf,glb,scn,m,npy}
+mkdir -p "$out"/{toml,obj,mtl,gltf,glb,scn,m,npy,queries}
 
 python3 - "$repo" "$out" "$paper" <<'PY'
 import base64, json, os, random, re, struct, sys
@@ -132,7 +132,103 @@ rays = [[rng.uniform(-1, 1), rng.uniform(-1, 1), 5, rng.uniform(-1, 1), rng.unif
 put("npy", "rays_v1.npy", npy(rays))
 put("npy", "rays_v2.npy", npy(rays, version=2))
 put("npy", "empty.npy", npy([]))
+
+# Ray queries (fuzz/src/queries/decode.rs has the layout): the issue's examples and a few
+# scenes with shared edges, far from the origin, tiny and huge.
+
+
+def i8(*xs):
+    return bytes(x & 0xFF for x in xs)
+
+
+def f32(*xs):
+    return struct.pack(f"<{len(xs)}f", *xs)
+
+
+ZERO = bytes([0, 0])  # value: 0
+
+
+def pow10(e, negative=False):
+    return bytes([2 | (0x80 if negative else 0), e + 18])
+
+
+def scene(prims, pool, centre=ZERO * 3, scale_exp=0):
+    """prims: ("t", i, j, k) or ("s", centre index, 2-exponent of the radius / L)."""
+    b = bytes([len(prims) - 1]) + centre + bytes([scale_exp + 30, len(pool) - 3])
+    for v in pool:  # lattice points in quarters of L
+        b += bytes([0]) + i8(*(round(4 * x) for x in v))
+    for p in prims:
+        b += bytes([0, *p[1:]]) if p[0] == "t" else bytes([1, p[1], p[2] + 64, 0])
+    return b
+
+
+def rays(*rs):
+    return bytes([len(rs) - 1]) + b"".join(rs)
+
+
+TMIN0_TMAXINF = bytes([0, 0])
+AT_CENTRE = bytes([3, 255, 0, 0, 0, 0, 0])  # dir: aimed at C, no tilt, scale 1: d = C - o
+
+
+def raw_origin(x, y, z):
+    return bytes([0]) + f32(x, y, z)
+
+
+def afar(prim, feature, e, f, u):
+    return bytes([5, prim, feature, e, f]) + i8(*u)
+
+
+def aimed(prim, feature, tilt=0, side=(0, 0, 0), scale=0):
+    return bytes([3, prim, feature, tilt]) + i8(*side) + i8(scale)
+
+
+octa_pool = [(1, 0, 0), (0, 1, 0), (0, 0, 1), (-1, 0, 0), (0, -1, 0), (0, 0, -1)]
+octa = [("t", a, b, c) for a in (0, 3) for b in (1, 4) for c in (2, 5)]
+# The unit-sphere mesh from (x, x, x) with d = -o exactly: the front face near t = 1.
+for x in (1e6, 1e19, 1e30, 3e38):
+    put("queries", f"octahedron_from_{x:.0e}.bin",
+        scene(octa, octa_pool) + rays(raw_origin(x, x, x) + AT_CENTRE + TMIN0_TMAXINF))
+# From 1e30, at a quad's centroid and 1e-3 rad off it (the exact answer: a miss), with
+# |d| = 1e30 and, scaled by 2^-100, about 1.
+quad_pool = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+quad = [("t", 0, 1, 2), ("t", 0, 2, 3)]
+put("queries", "quad_from_1e30.bin", scene(quad, quad_pool) + rays(
+    afar(0, 6, 30, 0, (0, 0, 4)) + aimed(0, 6, 0, (0, 0, 0), -100) + TMIN0_TMAXINF,
+    afar(0, 6, 30, 0, (0, 0, 4)) + aimed(0, 6, 6, (4, 4, 0), -100) + TMIN0_TMAXINF,
+    afar(0, 6, 30, 0, (0, 0, 4)) + aimed(0, 6) + TMIN0_TMAXINF,
+    afar(0, 6, 30, 0, (0, 0, 4)) + aimed(0, 6, 6, (4, 0, 0)) + TMIN0_TMAXINF,
+    afar(1, 6, 30, 0, (1, 2, 4)) + aimed(1, 6, 6, (0, 4, 0)) + TMIN0_TMAXINF,
+    afar(0, 4, 2, 0, (1, 2, 4)) + aimed(0, 4) + TMIN0_TMAXINF,  # the shared edge
+))
+# A unit sphere and a triangle below it, seen from 1e6 .. 3e38 (the sphere's front).
+ball = [("s", 0, 0), ("t", 1, 2, 3)]
+ball_pool = [(0, 0, 0), (-4, -4, -3), (4, -4, -3), (0, 4, -3)]
+for e, f in ((6, 0), (10, 0), (19, 0), (30, 0), (38, 0), (38, 255)):
+    put("queries", f"ball_from_1e{e}_{f}.bin", scene(ball, ball_pool) + rays(
+        afar(0, 0, e, f, (0, 0, 4)) + aimed(0, 0) + TMIN0_TMAXINF,
+        afar(0, 1, e, f, (1, 1, 4)) + aimed(0, 1) + TMIN0_TMAXINF,  # the tangent point
+        afar(1, 6, e, f, (0, 1, 4)) + aimed(1, 6) + TMIN0_TMAXINF,
+    ))
+# A fan of four triangles around a shared vertex, near and far from the origin, at every
+# scale, with rays at its edges and vertex.
+fan_pool = [(0, 0, 0), (2, 0, 0), (0, 2, 0), (-2, 0, 0), (0, -2, 0)]
+fan = [("t", 0, 1, 2), ("t", 0, 2, 3), ("t", 0, 3, 4), ("t", 0, 4, 1)]
+fan_rays = rays(
+    bytes([2]) + i8(1, 1, 8) + aimed(0, 0) + TMIN0_TMAXINF,
+    bytes([2]) + i8(1, 3, 8) + aimed(0, 5) + TMIN0_TMAXINF,
+    bytes([2]) + i8(-3, 1, 8) + aimed(1, 4) + TMIN0_TMAXINF,
+    afar(2, 6, 20, 0, (1, 1, 4)) + aimed(0, 0) + TMIN0_TMAXINF,
+)
+for name, centre, exp in (("origin", ZERO * 3, 0), ("far", pow10(18) + pow10(17, True) + ZERO, 12),
+                          ("tiny", ZERO * 3, -30), ("huge", ZERO * 3, 17)):
+    put("queries", f"fan_{name}.bin", scene(fan, fan_pool, centre, exp) + fan_rays)
+# Axis-aligned rays with zero and negative-zero components (0 * inf in slab tests), and a
+# duplicated triangle and a huge sphere.
+put("queries", "axis_rays.bin", scene(quad + [("t", 0, 1, 2), ("s", 2, 30)], quad_pool) + rays(
+    bytes([2]) + i8(2, 2, 8) + bytes([2, 2 | 8 | 16, 0, 12, 0]) + TMIN0_TMAXINF,
+    bytes([2]) + i8(0, 0, 0) + bytes([2, 1 | 32, 0, 13, 0]) + bytes([4, 0]),
+))
 PY
-for t in toml obj mtl gltf glb scn m npy; do
+for t in toml obj mtl gltf glb scn m npy queries; do
     printf '%s: %s seeds\n' "$t" "$(ls "$out/$t" | wc -l)"
 done

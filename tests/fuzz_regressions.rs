@@ -5,6 +5,10 @@
 
 #[path = "../fuzz/src/harness.rs"]
 mod harness;
+// Only `run` and `context` are used here; tests/query_fuzz/ uses the rest.
+#[allow(dead_code)]
+#[path = "../fuzz/src/queries/mod.rs"]
+mod queries;
 
 use std::path::Path;
 use std::sync::Mutex;
@@ -16,7 +20,9 @@ static PANICS: Mutex<Vec<String>> = Mutex::new(Vec::new());
 fn every_recorded_fuzz_input_loads_or_fails_without_a_panic() {
     lumis::formats::guard::install();
     std::panic::set_hook(Box::new(|info| {
-        PANICS.lock().unwrap().push(info.to_string());
+        // A ray query's panic inside lumis also names the scene and ray (fuzz/src/queries/).
+        let context = queries::context().unwrap_or_default();
+        PANICS.lock().unwrap().push(format!("{info}\n{context}"));
     }));
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz_regressions");
     let mut replayed = 0;

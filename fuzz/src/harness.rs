@@ -1,6 +1,8 @@
 //! What each fuzz target does with one input, shared by the fuzz targets (fuzz/src/lib.rs)
 //! and the stable regression test that replays their crash inputs (tests/fuzz_regressions.rs,
-//! which includes this file by path). It depends only on lumis.
+//! which includes this file by path, with queries/). It depends only on lumis, and the
+//! `queries` target on the modules of queries/ (whose dependencies the main crate has as
+//! dev-dependencies).
 //!
 //! Every target calls the entry point the CLI uses: `load_with_overrides` for scenes and
 //! models (as `lumis render` does), `rays::read_rays` for `.npy` (as `lumis hits --rays`).
@@ -10,7 +12,9 @@
 use std::path::Path;
 
 /// The fuzz targets, by name (also the folders of tests/fuzz_regressions/).
-pub const TARGETS: [&str; 8] = ["toml", "obj", "mtl", "gltf", "glb", "scn", "m", "npy"];
+pub const TARGETS: [&str; 9] = [
+    "toml", "obj", "mtl", "gltf", "glb", "scn", "m", "npy", "queries",
+];
 
 /// Feeds `data` to `target` inside `dir`. Any `Ok` or `Err` of the loader is fine; only a
 /// panic, a hang or runaway memory is a finding.
@@ -65,6 +69,8 @@ pub fn run_in(dir: &Path, target: &str, data: &[u8]) {
         "npy" => {
             let _ = lumis::rays::read_rays(&put("rays.npy", data));
         }
+        // Ray queries on a decoded scene (fuzz/src/queries/): no files, `dir` unused.
+        "queries" => super::queries::run(data),
         other => panic!("no fuzz target {other}"),
     }
 }

@@ -3,6 +3,7 @@
 //! guard would otherwise catch quietly (a caught panic is still a bug to fix at the root).
 
 mod harness;
+pub mod queries;
 
 pub use harness::TARGETS;
 
@@ -17,6 +18,10 @@ fn scratch() -> &'static Path {
         lumis::formats::guard::install();
         std::panic::set_hook(Box::new(|info| {
             eprintln!("{info}");
+            // A panic inside lumis during a ray query: the scene and ray it happened on.
+            if let Some(context) = queries::context() {
+                eprintln!("{context}");
+            }
             std::process::abort();
         }));
         let dir = std::env::temp_dir().join(format!("lumis-fuzz-{}", std::process::id()));
