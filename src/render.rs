@@ -1,14 +1,13 @@
 //! Drives the integrator over the image: rayon over 16x16 tiles, stratified jittered samples,
 //! a progress bar, and the only place the film is written.
 
-use crate::accel::Hit;
 use crate::cryptomatte::{Mattes, PixelSamples, Rank};
 use crate::effects::{Analysis, EffectMode};
 use crate::film::{Film, PixelAov, PixelWindow};
 use crate::integrator::{RayCounts, Whitted};
 use crate::math::{Vec2, Vec3, Vec4};
 use crate::rng::SampleRng;
-use crate::scene::{Scene, SettingsError, World};
+use crate::scene::{Interaction, Scene, SettingsError, World};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -305,6 +304,7 @@ impl Pass<'_> {
     ) -> (Vec4, PixelAov) {
         let st = self.scene.settings();
         let cam = self.scene.camera();
+        let frame = self.integrator.world().accel().frame();
         let n = st.spp;
         let mut sum = Vec4::ZERO;
         for s in 0..n * n {
@@ -314,7 +314,7 @@ impl Pass<'_> {
             let film = Vec2::new(x as f32, y as f32) + (stratum + jitter) / n as f32;
             for _ in 0..self.lens_rays {
                 let lens = Vec2::new(rng.next_f32(), rng.next_f32());
-                let ray = cam.ray(film, st.width, st.height, lens);
+                let ray = cam.ray(frame, film, st.width, st.height, lens);
                 let sample = self.integrator.camera_ray(&ray, counts);
                 match sample.object {
                     Some(object) if self.mattes.is_some() => samples.add(object),
@@ -349,21 +349,24 @@ fn centre_aov(
     let st = scene.settings();
     let cam = scene.camera();
     let ray = cam.centre_ray(
+        integrator.world().accel().frame(),
         Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
         st.width,
         st.height,
     );
     counts.aov += 1;
     let world = integrator.world();
-    let Some(Hit { prim, hit }) = world.intersect_hit(&ray, &mut counts.traversal) else {
+    let Some(traced) = world.trace(&ray, &mut counts.traversal) else {
         return PixelAov::MISS;
     };
-    let mut hit_ray = ray;
-    hit_ray.t_max = hit.t;
-    let object = scene.object_of(prim);
     // Texture coordinates always, for the uv layer (shading computes them only where a
     // texture reads them).
-    let s = scene.geometry().surface(prim, &hit_ray, &hit, true);
+    let Interaction {
+        prim,
+        object,
+        surface: s,
+        ..
+    } = world.interaction(&traced, true);
     let m = scene.material_of(object);
     // A textured material's albedo is the one shading uses at this hit.
     let albedo = match m.textured {

@@ -2,6 +2,7 @@
 //! dispatch, and the atomic-write guarantees on failure. PNG encoding: `png_output.rs`.
 
 use exr::prelude::{AttributeValue, Blocks, Compression, FlatSamples, Text};
+use lumis::accel::RayFrame;
 use lumis::camera::Camera;
 use lumis::film::{Film, PixelAov};
 use lumis::math::{Vec2, Vec3, Vec4};
@@ -224,7 +225,9 @@ fn exr_attributes() {
         Vec2::new(6.25, 4.75),
         Vec2::new(3.5, 2.5),
     ] {
-        let world = cam.ray(film_pos, W, H, Vec2::ZERO).at(5.0);
+        let world = cam
+            .ray(&RayFrame::unbounded(), film_pos, W, H, Vec2::ZERO)
+            .at(5.0);
         let q = row_times_m44f(world.extend(1.0).to_array(), &w2ndc);
         let (nx, ny) = (q[0] / q[3], q[1] / q[3]);
         assert!(

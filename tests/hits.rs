@@ -372,11 +372,34 @@ fn bad_ray_files_fail_naming_the_file_and_write_nothing() {
             [0., 0., 5., f32::NAN, 0., -1., 0., INF],
         ],
     );
-    assert_rejected(d, &scene, &nan_dir, "ray 1: direction is NaN");
+    assert_rejected(
+        d,
+        &scene,
+        &nan_dir,
+        "ray 1: direction [NaN, 0e0, -1e0] is NaN; directions must be finite and non-zero",
+    );
 
     let zero_dir = d.join("zero_dir.npy");
     write_rays(&zero_dir, &[[0., 0., 5., 0., 0., 0., 0., INF]]);
-    assert_rejected(d, &scene, &zero_dir, "ray 0: direction is zero");
+    assert_rejected(
+        d,
+        &scene,
+        &zero_dir,
+        "ray 0: direction [0e0, 0e0, 0e0] is zero; directions must be finite and non-zero",
+    );
+
+    let inf_origin = d.join("inf_origin.npy");
+    write_rays(&inf_origin, &[[0., INF, 5., 0., 0., -1., 0., INF]]);
+    assert_rejected(
+        d,
+        &scene,
+        &inf_origin,
+        "inf_origin.npy: ray 0: origin [0e0, inf, 5e0] is not finite; origins must be finite",
+    );
+
+    let nan_t = d.join("nan_t.npy");
+    write_rays(&nan_t, &[[0., 0., 5., 0., 0., -1., f32::NAN, INF]]);
+    assert_rejected(d, &scene, &nan_t, "ray 0: t_min NaN or t_max inf is NaN");
 }
 
 #[test]

@@ -71,10 +71,11 @@ impl CullBound {
         }
     }
 
-    /// `t_max` widened for the box test.
+    /// `t_max` widened for the box test (towards +inf: a negative `t_max`, a ray queried
+    /// behind its origin, is not scaled, which would move it the wrong way).
     #[inline(always)]
     pub(crate) fn widen(self, t_max: f32) -> f32 {
-        t_max * CULL_SCALE + self.slack
+        (t_max * CULL_SCALE).max(t_max) + self.slack
     }
 
     /// `t_min` lowered for the box test: a hit just after the origin may round to a `t` past

@@ -15,7 +15,9 @@ mod bsp;
 mod build;
 mod bvh;
 mod exhaustive;
+mod frame;
 pub(crate) mod leaves;
+mod query;
 pub(crate) mod sah;
 mod segments;
 mod slab;
@@ -25,14 +27,14 @@ mod wide;
 
 pub use bsp::SplitRule;
 pub use bvh::{Bvh, Node};
+pub use frame::{Framing, Moved, NEAR_FACTOR, RayFrame};
+pub use query::Traced;
 pub use segments::{PAPER_SEGMENT_MAX, SegmentParams};
 pub use wide::{LEAF_ALIGN, PADDING, Wide8, WideBvh, WideNode};
 
 use std::sync::Arc;
 
-use crate::geometry::{
-    Geometry, PackedLeaves, PackedWatertight, Precision, PrimHit, Primitive, with_prim_test,
-};
+use crate::geometry::{Geometry, PackedLeaves, PrimHit, Primitive};
 use crate::math::{Aabb, Ray};
 
 /// Which acceleration structure to build.
@@ -158,6 +160,8 @@ pub struct Accel {
     kind: AccelKind,
     structure: Structure,
     traversal: Traversal,
+    /// Where queries are traced from (every query goes through it: far origins are moved).
+    frame: RayFrame,
     /// The triangles in the wide hierarchy's leaf order (see [`Accel::build_for`]).
     packed: Option<Arc<PackedLeaves>>,
 }
@@ -192,10 +196,12 @@ impl Accel {
                 Structure::Wide(Box::new(Wide8::collapse(&sah::build(bounds, slots, opts))))
             }
         };
+        let scene = bounds.iter().fold(Aabb::EMPTY, |b, p| b.union(*p));
         Self {
             kind,
             structure,
             traversal: Traversal::Ordered,
+            frame: RayFrame::new(scene),
             packed: None,
         }
     }
@@ -228,40 +234,9 @@ impl Accel {
         }
     }
 
-    /// The nearest hit of `ray` among the primitives of `geometry` (the geometry this was
-    /// built for) with the primitive tests of `precision`: through the packed leaves when
-    /// there are any and the tests are the watertight ones, else one primitive at a time.
-    #[inline]
-    pub fn intersect_geometry(
-        &self,
-        geometry: &Geometry,
-        precision: Precision,
-        ray: &Ray,
-        stats: &mut TraversalStats,
-    ) -> Option<Hit> {
-        if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
-            return wide.intersect(ray, stats, PackedWatertight::new(packed, geometry, ray));
-        }
-        // One traversal instantiation per precision, chosen once per ray.
-        with_prim_test!(geometry, precision, ray, |test| self
-            .intersect(ray, stats, test))
-    }
-
-    /// True when a primitive of `geometry` blocks `ray` (see [`Accel::intersect_geometry`]).
-    #[inline]
-    pub fn occluded_geometry(
-        &self,
-        geometry: &Geometry,
-        precision: Precision,
-        ray: &Ray,
-        stats: &mut TraversalStats,
-    ) -> bool {
-        if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
-            return wide.occluded(ray, stats, PackedWatertight::new(packed, geometry, ray));
-        }
-        with_prim_test!(geometry, precision, ray, |test| {
-            self.occluded(ray, stats, |p, r| test(p, r).is_some())
-        })
+    /// Where this accelerator traces queries from: the scene's bounds and near region.
+    pub fn frame(&self) -> &RayFrame {
+        &self.frame
     }
 
     /// Bytes of the hierarchy and of the packed leaves, for the bytes-per-primitive figure.
@@ -310,46 +285,6 @@ impl Accel {
         match &self.structure {
             Structure::Wide(w) => Some(w),
             _ => None,
-        }
-    }
-
-    /// The nearest hit of `ray` in `(t_min, t_max]`; `test(prim, ray)` intersects one primitive
-    /// with a ray whose `t_max` has been shrunk to the best hit so far.
-    #[inline]
-    pub fn intersect<F>(&self, ray: &Ray, stats: &mut TraversalStats, test: F) -> Option<Hit>
-    where
-        F: FnMut(u32, &Ray) -> Option<PrimHit>,
-    {
-        match (&self.structure, &self.traversal) {
-            (Structure::Brute(b), _) => b.intersect(ray, stats, test),
-            // Only ever walked in order: `with_traversal` unfolds it for the others.
-            (Structure::Wide(w), _) => w.intersect(ray, stats, leaves::PerPrim(test)),
-            (Structure::Bvh(b), Traversal::Ordered) => b.intersect(ray, stats, test),
-            (Structure::Bvh(b), Traversal::Segments(p)) => {
-                b.intersect_segments(ray, p, stats, test)
-            }
-            (Structure::Bvh(b), Traversal::Exhaustive) => b.intersect_exhaustive(ray, stats, test),
-            (Structure::Bvh(b), Traversal::SegmentsOriginalRule(p)) => {
-                b.intersect_segments_original_rule(ray, p, stats, test)
-            }
-        }
-    }
-
-    /// True when anything blocks `ray` in `(t_min, t_max]`; stops at the first hit found.
-    #[inline]
-    pub fn occluded<F>(&self, ray: &Ray, stats: &mut TraversalStats, test: F) -> bool
-    where
-        F: FnMut(u32, &Ray) -> bool,
-    {
-        match (&self.structure, &self.traversal) {
-            (Structure::Brute(b), _) => b.occluded(ray, stats, test),
-            (Structure::Wide(w), _) => w.occluded(ray, stats, leaves::PerPrim(test)),
-            (Structure::Bvh(b), Traversal::Ordered | Traversal::Exhaustive) => {
-                b.occluded(ray, stats, test)
-            }
-            (Structure::Bvh(b), Traversal::Segments(p) | Traversal::SegmentsOriginalRule(p)) => {
-                b.occluded_segments(ray, p, stats, test)
-            }
         }
     }
 

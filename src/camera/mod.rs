@@ -22,32 +22,32 @@
 //! height = 4.0          # world-space height the image spans
 //! ```
 //!
-//! # Precision, and its limit
+//! # Precision
 //!
 //! The basis (`forward`, `right`, `up`) and `tan(fov / 2)` are built and held in `f64`. A pixel's
 //! ray is formed in camera space as `(sx, sy, 1)` in `f64`, taken to world space and normalised
-//! in `f64`, and rounded once to `f32`, each component correctly rounded. Thin-lens rays aim at
-//! the `f64` focus point from their (rounded) `f32` lens origin. So neighbouring pixels keep their
-//! difference of direction down to the resolution of the `f32` ray itself, which is the limit:
+//! in `f64`; thin-lens rays aim from their lens point at the `f64` focus point. What is rounded
+//! to `f32`, and where, decides what survives:
 //!
-//! * **Directions.** A unit `f32` direction can only change by steps of `ulp(d_i)` in each
-//!   component, `2^-24..2^-23` of the component's size. Turning it by an angle `delta` moves the
-//!   components perpendicular to the turn by about `delta`, so a per-pixel angle
-//!   `delta = 2 tan(fov / 2) / height` is resolved only when it exceeds the ulp of the components
-//!   it lands in. Looking along a world axis the other components are small (`s`) and the
-//!   resolution is about `s * 2^-23` (1e-12 rad for `s = 1e-5`); in an oblique view every
-//!   component is ~0.58 and the resolution is `2^-24 ~ 6e-8` rad, the best any `f32` direction
-//!   has. There a field of view of 1.4e-6 degrees (2.4e-8 rad over 64 rows, 3.8e-10 rad a pixel)
-//!   puts ~150 pixels on each representable direction: the image is made of flat blocks, however
-//!   exact the camera maths (`tests/hard_cases/camera.rs`).
-//! * **Positions.** The eye is an `f32` point on the grid `ulp(|p_i|)`: 8 units at 1e8. The camera
-//!   cannot sit between grid points, lens offsets are rounded onto that grid too (an aperture
-//!   below `ulp(p)` collapses to the pinhole or is quantised), and a hit at distance `t` is
-//!   located only to `t * ulp(d) + ulp(p)`.
+//! * **Near the scene** (the eye or lens point inside the scene's near region, see
+//!   [`crate::accel::RayFrame`]: every ordinary view) the origin and the direction are rounded
+//!   as they are, each component correctly. A unit `f32` direction turns only in steps of
+//!   `ulp(d_i)`, `2^-24..2^-23` of a component, which from a few scene sizes away is far below
+//!   a pixel.
+//! * **Far from the scene** the ray is formed in `f64` and moved along itself to near the
+//!   scene's bounds (in double-double) before anything is rounded: the origin is then rounded
+//!   on the scene's grid and the direction's rounding acts over the scene's size only, so a
+//!   unit sphere seen from 1e8 along an oblique axis with a field of view of 1.4e-6 degrees
+//!   (3.8e-10 rad a pixel, where ~150 pixels share each `f32` direction from the eye) is
+//!   resolved pixel for pixel (`tests/hard_cases/camera.rs`).
+//! * **Limits** ([`crate::scene::domain`]): the field of view is at least 1e-7 degrees, where
+//!   neighbouring pixels of the largest image are still 240 times the `f64` basis's resolution
+//!   apart; lens radius and focus distance are bounded by the world's size.
 //! * **Matrices.** `world_to_camera` / `world_to_ndc` are computed in `f64` but stored as `f32`
 //!   (the EXR header's M44f): their translation `-R p` keeps only ~7 digits, so reprojecting
 //!   through them far from the origin is good to `ulp(|p|)` in camera space, not to a pixel.
 
+use crate::accel::{Framing, RayFrame};
 use crate::math::{Mat4, Ray, Vec2, Vec3};
 use glam::{DMat4, DVec3, DVec4};
 
@@ -205,6 +205,16 @@ impl Camera {
         self.lens
     }
 
+    /// The field of view in degrees along its axis (perspective cameras).
+    pub fn fov_degrees(&self) -> f64 {
+        2.0 * self.tan_half_fov.atan().to_degrees()
+    }
+
+    /// The world-space height an orthographic camera's image spans; `None` for perspective.
+    pub fn ortho_height(&self) -> Option<f32> {
+        self.ortho_half_height.map(|h| (2.0 * h) as f32)
+    }
+
     /// Distance from the lens to the plane in focus (world units).
     pub fn focus_distance(&self) -> f32 {
         self.focus_distance as f32
@@ -240,37 +250,49 @@ impl Camera {
     }
 
     /// The ray through film position `film` (pixels, `(0,0)` = top-left corner of the image,
-    /// `(w,h)` = bottom-right) from lens sample `lens` in `[0,1)^2`.
-    pub fn ray(&self, film: Vec2, width: u32, height: u32, lens: Vec2) -> Ray {
+    /// `(w,h)` = bottom-right) from lens sample `lens` in `[0,1)^2`, for a scene framed by
+    /// `frame` (the accelerator's [`RayFrame`]): when the eye or the lens point lies outside the
+    /// scene's near region, the ray is formed in `f64` and starts near the scene instead, so
+    /// its direction is rounded to `f32` only there (see the module docs).
+    pub fn ray(&self, frame: &RayFrame, film: Vec2, width: u32, height: u32, lens: Vec2) -> Ray {
         if self.is_orthographic() {
-            return self.centre_ray(film, width, height);
+            return self.centre_ray(frame, film, width, height);
         }
         let dir = self.pinhole_dir64(film, width, height);
         let d = match self.lens {
-            Lens::Pinhole => return Ray::new(self.position, dir.as_vec3()),
+            Lens::Pinhole => return framed(frame, self.position.as_dvec3(), dir),
             Lens::Disk(radius) => concentric_disk(lens) * radius,
             Lens::Square(size) => lens * size,
         };
-        // Thin lens: every ray through the lens meets the pinhole ray on the focus plane. The
-        // direction is aimed from the origin as rounded to f32, so the ray really passes there.
+        // Thin lens: every ray through the lens meets the pinhole ray on the focus plane.
         let p = self.position.as_dvec3();
         let focus = p + dir * (self.focus_distance / dir.dot(self.forward));
-        let origin = (p + self.right * d.x as f64 + self.up * d.y as f64).as_vec3();
-        let to_focus = (focus - origin.as_dvec3()).normalize();
-        Ray::new(origin, to_focus.as_vec3())
+        let origin = p + self.right * d.x as f64 + self.up * d.y as f64;
+        let rounded = origin.as_vec3();
+        if frame.holds(rounded) {
+            // The direction is aimed from the origin as rounded to f32, so the ray really
+            // passes through the focus point.
+            let to_focus = (focus - rounded.as_dvec3()).normalize();
+            return Ray::new(rounded, to_focus.as_vec3());
+        }
+        framed(frame, origin, (focus - origin).normalize())
     }
 
     /// The ray through a film position ignoring the lens: from the eye (perspective) or from the
-    /// image plane (orthographic). The AOV layers trace it.
-    pub fn centre_ray(&self, film: Vec2, width: u32, height: u32) -> Ray {
+    /// image plane (orthographic), framed as [`Camera::ray`]. The AOV layers trace it.
+    pub fn centre_ray(&self, frame: &RayFrame, film: Vec2, width: u32, height: u32) -> Ray {
         if self.is_orthographic() {
             let (hx, hy) = self.tan_half_xy(width, height);
             let sx = (2.0 * film.x as f64 / width as f64 - 1.0) * hx;
             let sy = (1.0 - 2.0 * film.y as f64 / height as f64) * hy;
             let origin = self.position.as_dvec3() + self.right * sx + self.up * sy;
-            return Ray::new(origin.as_vec3(), self.forward.as_vec3());
+            return framed(frame, origin, self.forward);
         }
-        Ray::new(self.position, self.pinhole_dir(film, width, height))
+        framed(
+            frame,
+            self.position.as_dvec3(),
+            self.pinhole_dir64(film, width, height),
+        )
     }
 
     /// Unit direction of the pinhole ray through a film position (see [`Camera::ray`]); the
@@ -332,6 +354,17 @@ impl Camera {
             DVec4::new(0.0, 0.0, 1.0, 0.0),
         );
         (cam_to_ndc * self.world_to_camera64()).as_mat4()
+    }
+}
+
+/// The `f32` ray for the `f64` ray `origin + t dir` (`t > 0`, `dir` unit): rounded as it is
+/// when its origin lies in `frame`'s near region, else moved near the scene before the
+/// direction is rounded; a ray whose line misses the scene gets an empty interval.
+fn framed(frame: &RayFrame, origin: DVec3, dir: DVec3) -> Ray {
+    match frame.frame_f64(origin, dir) {
+        Framing::AsGiven => Ray::new(origin.as_vec3(), dir.as_vec3()),
+        Framing::Moved(m) => m.ray,
+        Framing::Miss => Ray::segment(origin.as_vec3(), dir.as_vec3(), 0.0),
     }
 }
 

@@ -24,7 +24,9 @@ fn world_to_ndc_maps_a_ray_point_back_to_its_pixel() {
         Vec2::new(60.25, 40.75),
         Vec2::new(32.0, 24.0),
     ] {
-        let p = c.ray(film, w, h, Vec2::ZERO).at(3.7);
+        let p = c
+            .ray(&RayFrame::unbounded(), film, w, h, Vec2::ZERO)
+            .at(3.7);
         let q = m * p.extend(1.0);
         let ndc = q.truncate() / q.w;
         assert!(
@@ -42,8 +44,8 @@ fn world_to_ndc_maps_a_ray_point_back_to_its_pixel() {
 fn thin_lens_rays_converge_on_the_focus_plane() {
     let c = Camera::look_at(Vec3::ZERO, -Vec3::Z, Vec3::Y, 40.0, 0.5, Some(4.0)).unwrap();
     let film = Vec2::new(20.0, 10.0);
-    let a = c.ray(film, 64, 32, Vec2::new(0.1, 0.9));
-    let b = c.ray(film, 64, 32, Vec2::new(0.8, 0.3));
+    let a = c.ray(&RayFrame::unbounded(), film, 64, 32, Vec2::new(0.1, 0.9));
+    let b = c.ray(&RayFrame::unbounded(), film, 64, 32, Vec2::new(0.8, 0.3));
     let pa = a.at((4.0 - 0.0) / -a.dir.z);
     let pb = b.at(4.0 / -b.dir.z);
     assert!((pa - pb).length() < 1e-4, "{pa} vs {pb}");
@@ -81,7 +83,7 @@ fn orthographic_rays_are_parallel_and_world_to_ndc_maps_them_back() {
         Vec2::new(60.25, 20.75),
         Vec2::new(32.0, 16.0),
     ] {
-        let r = c.ray(film, w, h, Vec2::new(0.3, 0.7));
+        let r = c.ray(&RayFrame::unbounded(), film, w, h, Vec2::new(0.3, 0.7));
         assert_eq!(r.dir, -Vec3::Z);
         // The image spans 4 units vertically and 8 horizontally, centred on the position.
         let expect_x = 1.0 + (film.x / w as f32 - 0.5) * 8.0;

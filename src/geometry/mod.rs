@@ -13,7 +13,7 @@ mod polygon;
 mod sphere;
 mod surface;
 mod triangle;
-mod twofloat;
+pub(crate) mod twofloat;
 
 pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsilon};
 pub use exact::{cross_sign, orient2d, triangle_area_is_zero};

@@ -114,10 +114,14 @@ pub fn intersect_triangle(
     // Each vertex's sheared magnitude, pre-scaled so a product of two is the edge's bound.
     let m = |v: Vec3| Vec3A::from(v).abs().dot(wr.err_w);
     let (ma, mb, mc) = (m(a), m(b), m(c));
+    // Written `!(|e| > bound)` so that a NaN (an overflowed product, `inf - inf`: only for
+    // coordinates beyond the scene limits) is refined too, in f64, where no product of f32
+    // inputs overflows; it would otherwise pass the sign test below as "not outside".
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must compare as "within the bound"
     let refine = [
-        e0.abs() <= mb * mc,
-        e1.abs() <= mc * ma,
-        e2.abs() <= ma * mb,
+        !(e0.abs() > mb * mc),
+        !(e1.abs() > mc * ma),
+        !(e2.abs() > ma * mb),
     ];
     if refine.iter().any(|&r| r) {
         let shear = Shear64::new(ray, [kx, ky, kz]);
@@ -138,6 +142,11 @@ pub fn intersect_triangle(
     if det == 0.0 {
         return None;
     }
+    if !det.is_finite() {
+        // Edge values beyond f32 (refined in f64, or summing past f32::MAX): the decision
+        // stands, the barycentrics come from the f64 edges.
+        return overflowed_hit(ray, [kx, ky, kz], p0, p1, p2);
+    }
     let inv_det = 1.0 / det;
     // No early range test on the sheared f32 distance: it can be off by 1e-2 at grazing angles,
     // and rejecting on it would make exact ties (duplicate triangles) depend on visit order.
@@ -152,6 +161,21 @@ pub fn intersect_triangle(
         t,
         u: e1 * inv_det,
         v: e2 * inv_det,
+    })
+}
+
+/// The hit of a ray whose edge functions left the `f32` range (see [`intersect_triangle`]),
+/// with barycentrics from the `f64` shear.
+#[cold]
+fn overflowed_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
+    let shear = Shear64::new(ray, k);
+    let (e0, e1, e2) = (shear.edge(p1, p2), shear.edge(p2, p0), shear.edge(p0, p1));
+    let det = e0 + e1 + e2;
+    let t = plane_distance(ray, p0, p1, p2)?;
+    (det != 0.0 && in_range(t, ray)).then(|| TriangleHit {
+        t,
+        u: (e1 / det) as f32,
+        v: (e2 / det) as f32,
     })
 }
 
@@ -182,7 +206,8 @@ pub fn intersect_triangle_fast(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Optio
     }
     let q = s.cross(e1);
     let v = ray.dir.dot(q) * inv_det;
-    if v < 0.0 || u + v > 1.0 {
+    // Negated, so that a NaN (an overflowed product) is rejected, not accepted.
+    if !(v >= 0.0 && u + v <= 1.0) {
         return None;
     }
     let t = e2.dot(q) * inv_det;

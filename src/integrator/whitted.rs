@@ -251,6 +251,12 @@ impl<'a> Whitted<'a> {
                 }
                 continue;
             }
+            if ls.wi == Vec3::ZERO {
+                // A light exactly at the shaded point has no direction to trace (a zero
+                // direction is outside the query domain, src/scene/domain.rs); `c` is 0 there
+                // (cos = 0), so even the reference loses nothing by not tracing it.
+                continue;
+            }
             let origin = s.spawn_origin(ls.wi, self.offset);
             // Stop just short of a point light so the light's own position never counts as a blocker.
             let t_max = if ls.distance.is_finite() {

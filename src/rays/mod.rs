@@ -11,6 +11,7 @@ mod npy;
 use std::path::{Path, PathBuf};
 
 use crate::math::Vec3;
+use crate::scene::domain::check_ray;
 
 /// Floats per input ray row.
 pub const RAY_COLUMNS: usize = 8;
@@ -44,8 +45,8 @@ pub enum RaysError {
         path: PathBuf,
         /// Row index (0-based).
         row: usize,
-        /// What is wrong with it.
-        message: &'static str,
+        /// What is wrong with it, and the range.
+        message: String,
     },
 }
 
@@ -60,8 +61,8 @@ pub fn read_rays(path: &Path) -> Result<Vec<RayRow>, RaysError> {
 }
 
 /// The rays of `.npy` bytes: float32 (either byte order), C order, shape `(N, 8)`, exactly
-/// `N * 32` data bytes; every ray with a finite origin, a finite non-zero direction and
-/// `t_min`, `t_max` not NaN. `path` names the file in errors.
+/// `N * 32` data bytes; every ray inside the query domain ([`check_ray`]: a finite origin, a
+/// finite non-zero direction, `t_min`, `t_max` not NaN). `path` names the file in errors.
 pub fn parse_rays(bytes: &[u8], path: &Path) -> Result<Vec<RayRow>, RaysError> {
     let format = |message: String| RaysError::Format {
         path: path.to_path_buf(),
@@ -122,32 +123,12 @@ pub fn parse_rays(bytes: &[u8], path: &Path) -> Result<Vec<RayRow>, RaysError> {
         })
         .collect();
     for (row, r) in rays.iter().enumerate() {
-        check_ray(r).map_err(|message| RaysError::BadRay {
+        let v = |i: usize| Vec3::new(r[i], r[i + 1], r[i + 2]);
+        check_ray(v(0), v(3), r[6], r[7]).map_err(|e| RaysError::BadRay {
             path: path.to_path_buf(),
             row,
-            message,
+            message: e.to_string(),
         })?;
     }
     Ok(rays)
-}
-
-/// Why a ray row is unusable, if it is.
-fn check_ray(r: &RayRow) -> Result<(), &'static str> {
-    let dir = Vec3::new(r[3], r[4], r[5]);
-    if !Vec3::new(r[0], r[1], r[2]).is_finite() {
-        return Err("origin is not finite");
-    }
-    if dir.is_nan() {
-        return Err("direction is NaN");
-    }
-    if !dir.is_finite() {
-        return Err("direction is infinite");
-    }
-    if dir == Vec3::ZERO {
-        return Err("direction is zero");
-    }
-    if r[6].is_nan() || r[7].is_nan() {
-        return Err("t_min or t_max is NaN");
-    }
-    Ok(())
 }

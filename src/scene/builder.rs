@@ -1,6 +1,7 @@
 //! [`SceneBuilder`]: the one way loaders and tests assemble a [`Scene`], so every primitive has
 //! an object and every object a material.
 
+use super::domain;
 use super::limits::{self, LimitError};
 use super::{Frame, Object, Scene, Settings};
 use crate::camera::Camera;
@@ -150,7 +151,7 @@ impl SceneBuilder {
     /// outside the value limits of [`limits`]: too far, too large or too bright to render
     /// without overflow.
     pub fn build(mut self, camera: Camera) -> Result<Scene, LimitError> {
-        self.check(|| "camera".into(), limits::check_camera(&camera));
+        self.check(|| "camera".into(), domain::check_camera(&camera));
         if let Some(e) = self.rejected {
             return Err(e);
         }

@@ -23,7 +23,6 @@
 //! [`MAX_SAMPLE_RADIANCE`], so sums over many lights and 64 bounces of weight up to 2 stay
 //! finite (an `inf` times a zero weight would be a NaN pixel).
 
-use crate::camera::Camera;
 use crate::light::Light;
 use crate::material::{MAX_SHININESS, Material, Texture};
 use crate::math::{Aabb, Vec3};
@@ -164,15 +163,6 @@ pub fn check_light(l: &Light) -> Result<(), String> {
         check_point("position", p)?;
     }
     check_range("colour x intensity", power, MAX_LIGHT_POWER)
-}
-
-/// Why `camera` is outside the coordinate limit.
-pub fn check_camera(camera: &Camera) -> Result<(), String> {
-    check_point("position", camera.position())?;
-    if !camera.focus_distance().is_finite() {
-        return Err("focus distance must be finite".into());
-    }
-    Ok(())
 }
 
 #[cfg(test)]

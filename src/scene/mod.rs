@@ -7,6 +7,7 @@
 pub mod animation;
 mod auto;
 mod builder;
+pub mod domain;
 pub mod limits;
 mod settings;
 mod world;

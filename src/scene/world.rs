@@ -5,7 +5,7 @@
 //! place, makes pairing a scene with another scene's accelerator impossible to write.
 
 use super::{Interaction, Scene, Settings};
-use crate::accel::{Accel, AccelKind, BuildOptions, Hit, Traversal, TraversalStats};
+use crate::accel::{Accel, AccelKind, BuildOptions, Hit, Traced, Traversal, TraversalStats};
 use crate::camera::Camera;
 use crate::geometry::with_prim_test;
 use crate::math::Ray;
@@ -59,26 +59,40 @@ impl World {
 
     /// Nearest hit of `ray`, with its surface.
     pub fn intersect(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<Interaction> {
-        let Hit { prim, hit } = self.intersect_hit(ray, stats)?;
-        let mut hit_ray = *ray;
-        hit_ray.t_max = hit.t;
-        let object = self.scene.object_of(prim);
+        let traced = self.trace(ray, stats)?;
+        let object = self.scene.object_of(traced.hit.prim);
         // Texture coordinates only where a texture reads them (a sphere's cost two inverse
         // trigonometric calls); elsewhere they stay 0, which nothing reads.
         let uv = self.scene.material_of(object).reads_uv();
-        Some(Interaction {
-            t: hit.t,
-            prim,
-            object,
-            surface: self.scene.geometry().surface(prim, &hit_ray, &hit, uv),
-        })
+        Some(self.interaction(&traced, uv))
     }
 
-    /// The nearest primitive hit of `ray`, before any surface is computed.
-    pub fn intersect_hit(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<Hit> {
+    /// The nearest hit of `ray` with the ray it was found on, before any surface is computed
+    /// (a ray from far away is traced from near the scene: see [`crate::accel::RayFrame`]).
+    pub fn trace(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<Traced> {
         let precision = self.scene.settings().precision;
         self.accel
-            .intersect_geometry(self.scene.geometry(), precision, ray, stats)
+            .trace_geometry(self.scene.geometry(), precision, ray, stats)
+    }
+
+    /// The interaction of a traced hit: its surface computed on the ray it was found on, with
+    /// texture coordinates only `with_uv`.
+    pub fn interaction(&self, traced: &Traced, with_uv: bool) -> Interaction {
+        let Hit { prim, hit } = traced.hit;
+        Interaction {
+            t: traced.t,
+            prim,
+            object: self.scene.object_of(prim),
+            surface: self
+                .scene
+                .geometry()
+                .surface(prim, &traced.ray, &hit, with_uv),
+        }
+    }
+
+    /// The nearest primitive hit of `ray` (its caller's `t`), before any surface is computed.
+    pub fn intersect_hit(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<Hit> {
+        self.trace(ray, stats).map(|t| t.caller_hit())
     }
 
     /// True when something blocks `ray` within `(t_min, t_max]`.

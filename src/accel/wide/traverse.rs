@@ -207,9 +207,14 @@ impl<const W: usize> WideBvh<W> {
                     continue;
                 }
             } else {
+                // `get`, not indexing: a lane is entered only by a ray with a finite origin
+                // and direction (every query's frame sees to that), and an unused lane, whose
+                // count is the `EMPTY_LANE` sentinel, is never entered by such a ray; should
+                // one ever be, it is skipped rather than sliced with the sentinel.
                 let first = current.child as usize;
-                let prims = &self.prim_order[first..first + current.count as usize];
-                leaves.closest(current.child, prims, &mut closest, stats);
+                if let Some(prims) = self.prim_order.get(first..first + current.count as usize) {
+                    leaves.closest(current.child, prims, &mut closest, stats);
+                }
             }
             // Pop the next entry the ray may still reach before its best hit.
             loop {
@@ -258,9 +263,10 @@ impl<const W: usize> WideBvh<W> {
                     });
                 }
             } else {
+                // As in `intersect_with`: never sliced with the sentinel.
                 let first = current.child as usize;
-                let prims = &self.prim_order[first..first + current.count as usize];
-                if leaves.any(current.child, prims, ray, stats) {
+                let prims = self.prim_order.get(first..first + current.count as usize);
+                if prims.is_some_and(|prims| leaves.any(current.child, prims, ray, stats)) {
                     return true;
                 }
             }

@@ -127,16 +127,18 @@ impl Query {
         }
         let scene = world.scene();
         let g = scene.geometry();
-        let Some(Hit { prim, hit }) = world.intersect_hit(ray, stats) else {
+        let Some(traced) = world.trace(ray, stats) else {
             return MISS;
         };
-        let n = g.geometric_normal(prim, ray, &hit);
+        // The normal on the ray the hit was found on (a far ray's was moved near the scene).
+        let Hit { prim, hit } = traced.hit;
+        let n = g.geometric_normal(prim, &traced.ray, &hit);
         let kind = match g.prims()[prim as usize] {
             Primitive::Sphere { .. } => 0.0,
             Primitive::Triangle { .. } => 1.0,
         };
         [
-            hit.t,
+            traced.t,
             prim as f32,
             scene.object_of(prim) as f32,
             hit.u,

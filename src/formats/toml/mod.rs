@@ -20,7 +20,7 @@ use crate::light::Light;
 use crate::material::{Material, Texture};
 use crate::math::Vec3;
 use crate::scene::Scene;
-use crate::scene::{SceneBuilder, framing_camera, limits};
+use crate::scene::{SceneBuilder, domain, framing_camera};
 use animation::Animation;
 use schema::{CameraDoc, LightDoc, LightKind, MaterialDoc, RenderDoc, SceneDoc};
 
@@ -298,7 +298,7 @@ impl Loader<'_> {
     fn animated_camera(&self, c: &CameraDoc, a: &Animation) -> Result<Camera, SceneError> {
         let build = |frame: u32, e: &str| {
             let camera = self.camera(e, &a.camera_at(c, frame))?;
-            limits::check_camera(&camera).map_err(|m| self.err(e, m))?;
+            domain::check_camera(&camera).map_err(|m| self.err(e, m))?;
             Ok(camera)
         };
         for frame in 0..a.frame().count() {
