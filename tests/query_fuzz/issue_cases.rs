@@ -46,3 +46,11 @@ fn origins_from_1e6_to_3e38_see_the_front_of_a_sphere() {
         .collect();
     queries::check(&scene(&prims), &rays);
 }
+
+/// Two concentric spheres seen from 1e19: both fronts are `t = 1e19` in `f32`, but the outer
+/// one (primitive 1) is in front; the lower index is no tie-breaker for distinct exact hits.
+#[test]
+fn a_far_ray_sees_the_outer_of_two_concentric_spheres() {
+    let prims = [sphere([0.0; 3], 1.0), sphere([0.0; 3], 10.0)];
+    queries::check(&scene(&prims), &[ray([0.0, 0.0, 1e19], [0.0, 0.0, -1.0])]);
+}

@@ -31,8 +31,6 @@ enum Range {
 struct Must {
     /// The returned `t` may not exceed this.
     bound: f64,
-    /// The clear crossing of a single primitive (for the exact ordering check).
-    exact: Option<(u32, Root)>,
     why: String,
 }
 
@@ -40,6 +38,10 @@ struct Must {
 pub struct Expect {
     classes: Vec<(Class, Option<Crossing>)>,
     must: Option<Must>,
+    /// The clear crossing in range with the smallest exact offset ([`Root::dt`]), and its
+    /// primitive: no other primitive may be returned whose exact crossing lies beyond it
+    /// (compared by offset, since `f64` may not tell the `t` of far crossings apart).
+    nearest: Option<(u32, Root)>,
     /// True when no primitive can be hit in range.
     none: bool,
 }
@@ -54,6 +56,7 @@ impl Expect {
                 must = Some(m);
             }
         };
+        let mut nearest: Option<(u32, Root)> = None;
         let mut none = true;
         for (i, (class, _)) in classes.iter().enumerate() {
             match class {
@@ -65,9 +68,11 @@ impl Expect {
                         if range == Range::In {
                             offer(Must {
                                 bound: r.t + frame.tol(r),
-                                exact: Some((i as u32, *r)),
                                 why: format!("primitive {i} is clearly hit at t = {:e}", r.t),
                             });
+                            if nearest.is_none_or(|(_, n)| r.dt < n.dt) {
+                                nearest = Some((i as u32, *r));
+                            }
                         }
                     }
                 }
@@ -80,7 +85,6 @@ impl Expect {
         for (i, j, bound) in watertight_pairs(frame, prims, &classes) {
             offer(Must {
                 bound,
-                exact: None,
                 why: format!(
                     "triangles {i} and {j} share an edge the ray crosses: one of them is hit"
                 ),
@@ -89,6 +93,7 @@ impl Expect {
         Self {
             classes,
             must,
+            nearest,
             none,
         }
     }
@@ -167,7 +172,7 @@ impl Expect {
                 m.bound, m.why
             ));
         }
-        if let Some((q, r)) = m.exact {
+        if let Some((q, r)) = self.nearest {
             let limit = r.dt + (r.shift + shift) * 1.01 + frame.order_ulps(r.t);
             if exact > limit && q as usize != p {
                 return Err(format!(

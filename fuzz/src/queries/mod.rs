@@ -5,7 +5,8 @@
 //! The bytes decode ([`decode`]) to 1..12 spheres and triangles anywhere up to the coordinate
 //! limit and up to 8 rays with components across the whole `f32` range. Each ray
 //! - outside the domain (non-finite origin, zero or non-finite direction, NaN `t_min` or
-//!   `t_max`) must be refused by the domain check, and is not traced;
+//!   `t_max`) must be refused by `scene::domain::check_ray` and by `rays::parse_rays`, and is
+//!   not traced;
 //! - inside it, must give every configuration exactly brute force's answer of the same
 //!   precision, an occlusion answer that agrees, a finite `t` in `(t_min, t_max]`, finite
 //!   barycentrics, and (for a sample of rays, watertight and double precision) answers the
@@ -28,6 +29,7 @@ use lumis::accel::{
 };
 use lumis::geometry::{Geometry, Precision, WatertightRay};
 use lumis::math::{Ray, Vec3};
+use lumis::scene::domain;
 use oracle::Frame;
 pub use scene::{Prim, Scene};
 use std::cell::RefCell;
@@ -77,12 +79,14 @@ pub fn check(scene: &Scene, rays: &[Ray]) {
         set_context(scene, ray);
         set_step(Step::Domain);
         let domain = in_domain(ray);
-        if domain != parse_rays_accepts(ray) {
-            fail(
-                scene,
-                ray,
-                &format!("the domain rule says {domain}, lumis::rays::parse_rays disagrees"),
+        let lumis = domain::check_ray(ray.origin, ray.dir, ray.t_min, ray.t_max);
+        if domain != lumis.is_ok() || domain != parse_rays_accepts(ray) {
+            let what = format!(
+                "in the domain by the stated rule: {domain}; scene::domain::check_ray: \
+                 {lumis:?}; rays::parse_rays accepts: {}",
+                parse_rays_accepts(ray)
             );
+            fail(scene, ray, &what);
         }
         if domain {
             count(2);
@@ -98,8 +102,9 @@ pub fn check(scene: &Scene, rays: &[Ray]) {
     CONTEXT.with(|c| *c.borrow_mut() = None);
 }
 
-/// The domain of a ray query (issue 24): a finite origin, a finite non-zero direction, and
-/// `t_min`, `t_max` not NaN (infinite ones are fine).
+/// The domain of a ray query (issue 24), as stated, independently of
+/// `lumis::scene::domain::check_ray` (which must agree): a finite origin, a finite non-zero
+/// direction, and `t_min`, `t_max` not NaN (infinite ones are fine).
 pub fn in_domain(r: &Ray) -> bool {
     r.origin.is_finite()
         && r.dir.is_finite()

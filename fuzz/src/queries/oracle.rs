@@ -195,8 +195,8 @@ impl Frame {
         let clear = inner.is_positive() && cross2 < &inner * &inner * &a;
         let (af, bf) = (to_f64(&a, 2 * FRAC), to_f64(&b, 2 * FRAC));
         let dist = (to_f64(&cross2, 4 * FRAC) / af).sqrt();
-        // The closest approach's offset from the reference: (centre - c) . d / |d|^2.
-        let dt_c = ratio(&self.centre.sub(&IV::of(center.to_array())).dot(d), &a);
+        // The closest approach's offset from the reference: (c - centre) . d / |d|^2.
+        let dt_c = ratio(&IV::of(center.to_array()).sub(&self.centre).dot(d), &a);
         let (rf, delta) = (radius as f64, self.delta);
         if !clear {
             // Tangent within delta: the displaced line meets the sphere, if at all, within
