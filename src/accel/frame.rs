@@ -203,7 +203,7 @@ impl RayFrame {
             let Some((enter, exit)) = slab(&self.bounds, &p, dir) else {
                 return Framing::Miss;
             };
-            let (lo, hi) = (local_t(shift, t_min), local_t(shift, t_max));
+            let (lo, hi) = (local_t(shift, t_min), local_t(shift, t_max.min(f32::MAX)));
             if lo > exit || hi < enter {
                 return Framing::Miss;
             }
@@ -220,13 +220,20 @@ impl RayFrame {
         let Some((enter, exit)) = slab(&self.near, &from, dir) else {
             return Framing::Miss;
         };
-        let (lo, hi) = (local_t(shift, t_min), local_t(shift, t_max));
+        // A hit beyond f32::MAX has no f32 distance: it is no hit, for the nearest-hit and the
+        // any-hit query alike, so the cap is part of the interval (rounded inwards).
+        let capped = t_max > f32::MAX;
+        let (lo, hi) = (local_t(shift, t_min), local_t(shift, t_max.min(f32::MAX)));
         let t_lo = if lo >= enter {
             lo as f32
         } else {
             f32_down(enter)
         };
-        let t_hi = if hi <= exit { hi as f32 } else { f32_up(exit) };
+        let t_hi = match (hi <= exit, capped) {
+            (true, false) => hi as f32,
+            (true, true) => f32_down(hi),
+            (false, _) => f32_up(exit),
+        };
         if t_lo >= t_hi || t_lo.is_nan() || t_hi.is_nan() {
             return Framing::Miss;
         }

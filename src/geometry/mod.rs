@@ -170,6 +170,12 @@ impl Geometry {
     }
 
     /// [`Geometry::intersect`] with the `--precision fast` tests.
+    ///
+    /// Their `t` can be off by thousands of ulps, or land far from the primitive (catastrophic
+    /// cancellation in `f32`), where a hierarchy's box tests would never look for it. So a hit
+    /// counts only where the ray is inside the primitive's own box, as the traversals compute
+    /// that box's entry and exit for this ray: then every box around the primitive is entered
+    /// at that `t` too, and every accelerator finds exactly the hits brute force finds.
     #[inline]
     pub fn intersect_fast(&self, index: u32, ray: &Ray) -> Option<PrimHit> {
         self.intersect_by(
@@ -177,6 +183,7 @@ impl Geometry {
             |s| s.intersect_fast(ray),
             |[p0, p1, p2]| intersect_triangle_fast(ray, p0, p1, p2),
         )
+        .filter(|h| crate::accel::within_box(&self.bounds_of(self.prims[index as usize]), ray, h.t))
     }
 
     /// [`Geometry::intersect`] with the `--precision double` tests.

@@ -9,7 +9,7 @@
 //! lane the filter keeps goes through `intersect_triangle` itself, so the answers are exactly
 //! those of the per-primitive path, bit for bit.
 
-use super::triangle::{WatertightRay, intersect_triangle};
+use super::triangle::{UNDERFLOW, WatertightRay, intersect_triangle};
 use super::{Geometry, Primitive};
 use crate::accel::leaves::{AnyLeaves, ClosestLeaves};
 use crate::accel::{Closest, LEAF_ALIGN, PADDING, TraversalStats};
@@ -156,8 +156,10 @@ impl<'a> PackedWatertight<'a> {
             let e1 = edge(ax, ay, cx, cy);
             let e2 = edge(bx, by, ax, ay);
             let margin = _mm_set1_ps(BOUND_MARGIN);
+            let underflow = _mm_set1_ps(UNDERFLOW);
             let known = |e: __m128, m1: __m128, m2: __m128| {
-                _mm_cmpgt_ps(abs(e), _mm_mul_ps(_mm_mul_ps(m1, m2), margin))
+                let bound = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(m1, m2), margin), underflow);
+                _mm_cmpgt_ps(abs(e), bound)
             };
             let zero = _mm_setzero_ps();
             let (k0, k1, k2) = (known(e0, mb, mc), known(e1, mc, ma), known(e2, ma, mb));

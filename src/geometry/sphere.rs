@@ -22,13 +22,28 @@ pub struct Sphere {
 
 impl Sphere {
     /// Its bounding box, rounded outwards: `c +- r` in f32 would round a sphere smaller than
-    /// `ulp(c)` (r = 1e-3 at 1e5) to a box that misses part of it, or to a flat one.
+    /// `ulp(c)` (r = 1e-3 at 1e5) to a box that misses part of it, or to a flat one. A radius
+    /// below even `ulp(c)` in f64 (r = 1e-34 at 38) leaves `c -+ r` equal to `c` in f64 too:
+    /// the box still reaches the next f32 on each side.
     pub fn bounds(&self) -> Aabb {
         let r = self.radius as f64;
-        Aabb::new(
-            self.center.map(|x| f32_down(x as f64 - r)),
-            self.center.map(|x| f32_up(x as f64 + r)),
-        )
+        let below = |x: f32| {
+            let lo = x as f64 - r;
+            if lo < x as f64 {
+                f32_down(lo)
+            } else {
+                x.next_down()
+            }
+        };
+        let above = |x: f32| {
+            let hi = x as f64 + r;
+            if hi > x as f64 {
+                f32_up(hi)
+            } else {
+                x.next_up()
+            }
+        };
+        Aabb::new(self.center.map(below), self.center.map(above))
     }
 
     /// The nearest `t` in `(ray.t_min, ray.t_max]` where the ray meets the surface; always
@@ -243,6 +258,19 @@ mod tests {
         for i in 0..3 {
             assert!((b.min[i] as f64) <= s.center[i] as f64 - 1e-3);
             assert!((b.max[i] as f64) >= s.center[i] as f64 + 1e-3);
+        }
+    }
+
+    #[test]
+    fn bounds_contain_a_sphere_smaller_than_the_f64_ulp_of_its_centre() {
+        // 38 - 1e-34 rounds to 38 even in f64: the box must still be wider than a point.
+        let s = Sphere {
+            center: Vec3::new(38.0, -5.921568e17, 2.95e-14),
+            radius: 1e-34,
+        };
+        let b = s.bounds();
+        for i in 0..3 {
+            assert!(b.min[i] < s.center[i] && b.max[i] > s.center[i], "{b:?}");
         }
     }
 

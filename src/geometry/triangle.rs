@@ -12,6 +12,7 @@
 //! against a float64 reference).
 
 use super::conditioning::{Shear64, plane_distance};
+use super::exact::triangle_area_is_zero;
 use crate::math::{Ray, Vec3, Vec3A};
 
 /// Per-ray constants of the shear transform, computed once per ray and reused for every
@@ -105,9 +106,9 @@ pub fn intersect_triangle(
     let by = ba[ky] - wr.sy * ba[kz];
     let cx = ca[kx] - wr.sx * ca[kz];
     let cy = ca[ky] - wr.sy * ca[kz];
-    let mut e0 = cx * by - cy * bx;
-    let mut e1 = ax * cy - ay * cx;
-    let mut e2 = bx * ay - by * ax;
+    let e0 = cx * by - cy * bx;
+    let e1 = ax * cy - ay * cx;
+    let e2 = bx * ay - by * ax;
     // An edge function within its rounding error of 0 (the ray passes near that edge, or
     // grazes the plane) is re-evaluated from an f64 shear; the decision and the value depend
     // only on the ray and the edge, so neighbours agree and the test stays watertight.
@@ -119,33 +120,22 @@ pub fn intersect_triangle(
     // inputs overflows; it would otherwise pass the sign test below as "not outside".
     #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must compare as "within the bound"
     let refine = [
-        !(e0.abs() > mb * mc),
-        !(e1.abs() > mc * ma),
-        !(e2.abs() > ma * mb),
+        !(e0.abs() > mb * mc + UNDERFLOW),
+        !(e1.abs() > mc * ma + UNDERFLOW),
+        !(e2.abs() > ma * mb + UNDERFLOW),
     ];
-    if refine.iter().any(|&r| r) {
-        let shear = Shear64::new(ray, [kx, ky, kz]);
-        if refine[0] {
-            e0 = shear.edge(p1, p2) as f32;
-        }
-        if refine[1] {
-            e1 = shear.edge(p2, p0) as f32;
-        }
-        if refine[2] {
-            e2 = shear.edge(p0, p1) as f32;
-        }
+    if refine[0] | refine[1] | refine[2] {
+        return refined_hit(ray, [kx, ky, kz], p0, p1, p2);
     }
+    // Every sign is certain from here on.
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return None;
     }
     let det = e0 + e1 + e2;
-    if det == 0.0 {
-        return None;
-    }
-    if !det.is_finite() {
-        // Edge values beyond f32 (refined in f64, or summing past f32::MAX): the decision
-        // stands, the barycentrics come from the f64 edges.
-        return overflowed_hit(ray, [kx, ky, kz], p0, p1, p2);
+    if !(det.abs() >= f32::MIN_POSITIVE && det.is_finite()) {
+        // A determinant below the normal range (a triangle of ~1e-19 seen from nearby: its
+        // reciprocal overflows) or beyond f32: the decision stands, the numbers come from f64.
+        return refined_hit(ray, [kx, ky, kz], p0, p1, p2);
     }
     let inv_det = 1.0 / det;
     // No early range test on the sheared f32 distance: it can be off by 1e-2 at grazing angles,
@@ -164,15 +154,38 @@ pub fn intersect_triangle(
     })
 }
 
-/// The hit of a ray whose edge functions left the `f32` range (see [`intersect_triangle`]),
-/// with barycentrics from the `f64` shear.
+/// The absolute error an `f32` edge function can gain where its products fall below the
+/// normal range (each rounds by up to half the smallest subnormal, 2^-150; with the
+/// difference, 2^-148), doubled: what the relative bound alone misses for triangles of
+/// ~1e-19 and smaller.
+pub(super) const UNDERFLOW: f32 = f32::from_bits(4);
+
+/// [`intersect_triangle`] with all three edge functions in `f64`, for a ray through or near an
+/// edge (some `f32` value within its error bound of 0) or a determinant outside the normal
+/// `f32` range. Each value depends only on the ray and the edge's two vertices, so both
+/// triangles sharing the edge decide alike; where the `f32` sign was certain, the `f64` value
+/// has the same sign, so the decision is the `f32` test's wherever that one is sure.
 #[cold]
-fn overflowed_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
+#[inline(never)]
+fn refined_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
     let shear = Shear64::new(ray, k);
     let (e0, e1, e2) = (shear.edge(p1, p2), shear.edge(p2, p0), shear.edge(p0, p1));
+    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+        return None;
+    }
     let det = e0 + e1 + e2;
-    let t = plane_distance(ray, p0, p1, p2)?;
-    (det != 0.0 && in_range(t, ray)).then(|| TriangleHit {
+    // A triangle without area has det = 0 in exact arithmetic, whatever the f64 shear's
+    // rounding makes of it (collinear corners seen along their own line): never a hit.
+    if det == 0.0 || triangle_area_is_zero(p0, p1, p2) {
+        return None;
+    }
+    let t = plane_distance(ray, p0, p1, p2).or_else(|| {
+        // Parallel to the plane in f64 yet with a sheared area: the sheared distance.
+        let d = ray.dir.as_dvec3();
+        let z = |p: Vec3| (p.as_dvec3() - ray.origin.as_dvec3())[k[2]] / d[k[2]];
+        Some(((e0 * z(p0) + e1 * z(p1) + e2 * z(p2)) / det) as f32)
+    })?;
+    in_range(t, ray).then(|| TriangleHit {
         t,
         u: (e1 / det) as f32,
         v: (e2 / det) as f32,
