@@ -13,6 +13,7 @@ mod harness;
 
 mod camera;
 mod directions;
+mod far_origins;
 mod glass;
 mod offsets;
 mod polygons;
