@@ -268,3 +268,27 @@ fn hits_exactly_on_segment_boundaries_are_found() {
         }
     }
 }
+
+#[test]
+fn tiny_closed_meshes_have_no_leaks_where_f32_products_underflow() {
+    // Icospheres of radius 1e-20 down to 1e-36 (around the origin and off it): the sheared
+    // coordinates' products fall below the normal f32 range (2^-126) from ~1e-19 on, where
+    // edge functions rounded to 0 or to a subnormal of the wrong sign once let rays through
+    // shared edges (the query fuzz target found it at 2e-30).
+    for (k, radius) in [1e-20f32, 1e-30, 1e-36].into_iter().enumerate() {
+        for center in [Vec3::ZERO, Vec3::new(3.0, -2.0, 1.0) * radius * 7.0] {
+            let m = far_sphere(center, radius);
+            let rays = seam_rays(&m, center, radius, &mut Rng::new(20 + k as u64));
+            let mut g = Geometry::new();
+            g.add_mesh(m);
+            let everywhere = Everywhere::new(&g);
+            for precision in [Precision::Watertight, Precision::Double] {
+                assert_eq!(
+                    leaks(&everywhere, precision, &rays),
+                    0,
+                    "{precision:?} at radius {radius:e} around {center}"
+                );
+            }
+        }
+    }
+}
