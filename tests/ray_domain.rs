@@ -181,6 +181,31 @@ fn hits_answers_rays_from_any_finite_origin() {
             assert!(facing < 0.0, "{accel}: ray {i} hit the back: normal {n:?}");
         }
     }
+    // Any hit: the blocker's t on the caller's ray (front or back, 1 -+ 1/|o|).
+    let out = lumis(
+        d,
+        &[
+            "hits",
+            "scene.toml",
+            "--rays",
+            "rays.npy",
+            "--out",
+            "a.npy",
+            "--any-hit",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for (i, row) in read_rows(&d.join("a.npy")).iter().enumerate() {
+        assert!(
+            (row[0] - 1.0).abs() <= 2e-6,
+            "any hit: ray {i}: t {}",
+            row[0]
+        );
+    }
     let knot = common::files::root().join("assets/knot.obj");
     let mut rays = Vec::new();
     for (k, x) in [1e20f32, 1e25, 1e30, 3e38].into_iter().enumerate() {

@@ -5,7 +5,9 @@
 //! place, makes pairing a scene with another scene's accelerator impossible to write.
 
 use super::{Interaction, Scene, Settings};
-use crate::accel::{Accel, AccelKind, BuildOptions, Hit, Traced, Traversal, TraversalStats};
+use crate::accel::{
+    Accel, AccelKind, BuildOptions, Framing, Hit, Traced, Traversal, TraversalStats,
+};
 use crate::camera::Camera;
 use crate::geometry::with_prim_test;
 use crate::math::Ray;
@@ -107,10 +109,17 @@ impl World {
     /// primitives are tested one at a time with the scene's precision (the choice made once per
     /// ray), so cross-checks can compare the blocker itself, not only the yes or no.
     pub fn first_blocker(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<f32> {
+        // The blocker's `t` is measured on the ray the query traces: a far ray's is mapped back.
+        let framing = self.accel.frame().frame(ray);
+        let (local, moved) = match &framing {
+            Framing::AsGiven => (ray, None),
+            Framing::Moved(m) => (&m.ray, Some(m)),
+            Framing::Miss => return None,
+        };
         let g = self.scene.geometry();
         let mut blocker = None;
-        with_prim_test!(g, self.scene.settings().precision, ray, |test| {
-            self.accel.occluded(ray, stats, |p, r| match test(p, r) {
+        with_prim_test!(g, self.scene.settings().precision, local, |test| {
+            self.accel.occluded(local, stats, |p, r| match test(p, r) {
                 Some(h) => {
                     blocker = Some(h.t);
                     true
@@ -118,6 +127,9 @@ impl World {
                 None => false,
             })
         });
-        blocker
+        match moved {
+            Some(m) => blocker.and_then(|t| m.world_t(t)),
+            None => blocker,
+        }
     }
 }
