@@ -307,3 +307,73 @@ fn crossing_offsets_order_crossings_as_their_parameters_do() {
     }
     assert!(compared > 100, "{compared}");
 }
+
+/// Seeded input 3077: a ray with `|d| = 2.4e26` grazes a sliver (z from -31.7 to 1e5; the
+/// cosine between ray and normal is 1.7e-5) just inside its edge 1-2, at `t = 2.1175823e-22`
+/// in exact arithmetic, in front of a sphere (primitive 2) crossed at `t = 4.2306e-22`.
+/// lumis returns the sliver. The checker once called that the wrong primitive: the sphere's
+/// crossing offsets had the wrong sign, so its front looked 2.1e-22 *before* the scene's
+/// reference point while every printed `t` was right.
+#[test]
+fn a_grazed_sliver_in_front_of_a_sphere_is_the_answer() {
+    let v = |b: [u32; 3]| b.map(f32::from_bits);
+    let (a, b, c) = (
+        v([0xbf988f8b, 0x40002c80, 0x47c35000]),
+        v([0xbeaaca2b, 0xbfe4e1c0, 0x47c35018]),
+        v([0x36b0bfa3, 0x24f8abad, 0xc1fd5c14]),
+    );
+    let (d, e) = (
+        v([0xbfeaf54b, 0x400c6180, 0x47c34f49]),
+        v([0xbbf901f6, 0xb8fcce5e, 0xb60a34c8]),
+    );
+    let prims = [
+        sphere(c, f32::from_bits(0x340a30e3)),
+        tri(a, b, c),
+        sphere(c, f32::from_bits(0x42d59f80)),
+        tri(a, b, v([0xbf126e15, 0x3ec35000, 0x47c35165])),
+        tri(d, e, e),
+        sphere(d, f32::from_bits(0x2e4599f0)),
+    ];
+    let r = ray(
+        v([0xbfc9638b, 0xbe435000, 0x47c350cc]),
+        v([0x63b40a5c, 0xe3340dc0, 0xeb436156]),
+    );
+    // Rational arithmetic (Cramer's rule): a hit just inside the edge opposite corner 0.
+    let Prim::Triangle(corners) = prims[1] else {
+        unreachable!()
+    };
+    let hit = ray_triangle(r.origin, r.dir, corners).expect("an exact hit");
+    let t = exact_to_f64(&hit.t);
+    assert!((t - 2.1175823e-22).abs() < 1e-29, "{t:e}");
+    assert!(!hit.on_boundary());
+    // The oracle: the sliver may be hit (within delta of its edge) at that t; the sphere is
+    // clearly hit behind it, and both offsets are their t minus the same reference.
+    let s = scene(&prims);
+    let frame = Frame::new(&r, &s.geometry.bounds());
+    match frame.classify(&prims[1]).0 {
+        Class::Hit(roots) => assert!((roots[0].t - t).abs() <= frame.tol(&roots[0])),
+        Class::Ambiguous { lo, hi, dt_lo } => {
+            assert!(lo < t && t < hi, "[{lo:e}, {hi:e}]");
+            assert!((lo - dt_lo - frame.t_ref).abs() < 1e-12 * frame.t_ref);
+        }
+        Class::Miss => panic!("the sliver is crossed"),
+    }
+    let Class::Hit(sphere_roots) = frame.classify(&prims[2]).0 else {
+        panic!("the sphere is clearly hit");
+    };
+    let front = sphere_roots[0];
+    assert!((front.t - 4.230583850694954e-22).abs() < 1e-35, "{front:?}");
+    assert!((front.t - front.dt - frame.t_ref).abs() < 1e-12 * frame.t_ref);
+    assert!(
+        t - frame.t_ref < front.dt,
+        "the sliver's offset is the smaller"
+    );
+    // lumis's answer passes; the sphere's back does not.
+    verdict(&prims, &r, Some((1, 2.1175822e-22)), true).unwrap();
+    verdict(&prims, &r, Some((2, front.t as f32)), true).unwrap();
+    err_contains(
+        verdict(&prims, &r, Some((2, sphere_roots[1].t as f32)), true),
+        "wrong order",
+    );
+    queries::check(&s, &[r]);
+}

@@ -44,6 +44,8 @@ pub struct Expect {
     nearest: Option<(u32, Root)>,
     /// True when no primitive can be hit in range.
     none: bool,
+    /// The oracle contradicting itself (a checker bug, not a lumis one), if it does.
+    broken: Option<String>,
 }
 
 impl Expect {
@@ -90,11 +92,13 @@ impl Expect {
                 ),
             });
         }
+        let broken = inconsistent_offset(frame, &classes);
         Self {
             classes,
             must,
             nearest,
             none,
+            broken,
         }
     }
 
@@ -111,6 +115,9 @@ impl Expect {
         hit: Option<&Hit>,
         occluded: bool,
     ) -> Result<(), String> {
+        if let Some(b) = &self.broken {
+            return Err(format!("oracle: {b}"));
+        }
         if let Some(h) = hit {
             self.check_hit(frame, prims, h)?;
         } else if let Some(m) = &self.must {
@@ -177,10 +184,13 @@ impl Expect {
             if exact > limit && q as usize != p {
                 return Err(format!(
                     "wrong primitive: {p}, whose exact crossing lies {:e} beyond primitive \
-                     {q}'s clear crossing t = {:e} (more than the displacement allows, {:e})",
+                     {q}'s clear crossing t = {:e} (more than the displacement allows, {:e}; \
+                     as offsets from t_ref = {:e}: {exact:e} against {:e})",
                     exact - r.dt,
                     r.t,
-                    limit - r.dt
+                    limit - r.dt,
+                    frame.t_ref,
+                    r.dt
                 ));
             }
         }
@@ -199,6 +209,38 @@ impl Expect {
         }
         s
     }
+}
+
+/// The first crossing whose offset ([`Root::dt`]) is not its `t` minus the reference
+/// parameter `t_ref`, beyond the rounding of the three: the ordering check compares offsets,
+/// so an offset with a wrong sign or scale (as the spheres' once had) would blame a correct
+/// answer while every printed `t` looks right.
+fn inconsistent_offset(frame: &Frame, classes: &[(Class, Option<Crossing>)]) -> Option<String> {
+    let t_ref = frame.t_ref;
+    // `width`: the magnitude of a pad subtracted from both (an ambiguous range's).
+    let bad = |what: &str, t: f64, dt: f64, width: f64| {
+        let err = (t - dt - t_ref).abs();
+        let scale = t.abs() + dt.abs() + t_ref.abs() + width;
+        (scale.is_finite() && err > 1e-12 * scale).then(|| {
+            format!(
+                "{what} t = {t:e} has the offset {dt:e}, but t - t_ref = {:e}",
+                t - t_ref
+            )
+        })
+    };
+    classes
+        .iter()
+        .enumerate()
+        .find_map(|(i, (class, _))| match class {
+            Class::Hit(roots) => roots
+                .iter()
+                .find_map(|r| bad(&format!("primitive {i}'s crossing"), r.t, r.dt, 0.0)),
+            Class::Ambiguous { lo, hi, dt_lo } if dt_lo.is_finite() => {
+                let what = format!("primitive {i}'s earliest crossing");
+                bad(&what, *lo, *dt_lo, hi - lo)
+            }
+            _ => None,
+        })
 }
 
 /// The start of the range: `t_min`, or `-f32::MAX` (a `t` beyond is no `f32`).

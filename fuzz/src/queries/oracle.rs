@@ -41,6 +41,8 @@ pub struct Frame {
     /// by 2^298.
     ref_num: BigInt,
     d2: BigInt,
+    /// That parameter, `ref_num / d2`, rounded: every offset is its crossing's `t` minus it.
+    pub t_ref: f64,
     /// The box's centre.
     centre: IV,
 }
@@ -93,10 +95,12 @@ impl Frame {
         let m = d.abs().max_element();
         let (o, dv) = (IV::of(ray.origin.to_array()), IV::of(ray.dir.to_array()));
         let centre = IV::of(bounds.center().to_array());
+        let (ref_num, d2) = (centre.sub(&o).dot(&dv), dv.dot(&dv));
         Self {
             ray: *ray,
-            ref_num: centre.sub(&o).dot(&dv),
-            d2: dv.dot(&dv),
+            t_ref: ratio(&ref_num, &d2),
+            ref_num,
+            d2,
             centre,
             o,
             d: dv,
