@@ -30,18 +30,25 @@ impl Shear64 {
         }
     }
 
-    /// The sheared 2-D position of a vertex.
-    fn project(&self, p: Vec3) -> (f64, f64) {
+    /// The sheared 2-D position of a vertex, and the magnitude `|x| + |y| + (|sx| + |sy|) |z|`
+    /// of its unsheared offset that bounds the rounding of products of two such positions.
+    fn project(&self, p: Vec3) -> (f64, f64, f64) {
         let v = p.as_dvec3() - self.origin;
         let [kx, ky, kz] = self.k;
-        (v[kx] - self.s[0] * v[kz], v[ky] - self.s[1] * v[kz])
+        let m = v[kx].abs() + v[ky].abs() + (self.s[0].abs() + self.s[1].abs()) * v[kz].abs();
+        (v[kx] - self.s[0] * v[kz], v[ky] - self.s[1] * v[kz], m)
     }
 
-    /// The edge function of the directed edge `p -> q` (`qx * py - qy * px`), in `f64`.
-    pub(crate) fn edge(&self, p: Vec3, q: Vec3) -> f64 {
-        let (px, py) = self.project(p);
-        let (qx, qy) = self.project(q);
-        qx * py - qy * px
+    /// The edge function of the directed edge `p -> q` (`qx * py - qy * px`), in `f64`, and a
+    /// bound on its error: the difference `p - o` rounds once, the shear ratio, its product and
+    /// the subtraction three more times, the products and their difference twice; 16 roundings
+    /// of the magnitudes' product cover that with room, plus the smallest normal for products
+    /// that fall below the normal range.
+    pub(crate) fn edge(&self, p: Vec3, q: Vec3) -> (f64, f64) {
+        let (px, py, mp) = self.project(p);
+        let (qx, qy, mq) = self.project(q);
+        let bound = 16.0 * f64::EPSILON * mp * mq + 4.0 * f64::MIN_POSITIVE;
+        (qx * py - qy * px, bound)
     }
 }
 

@@ -107,6 +107,43 @@ pub fn cross_sign(p0: Vec3, p1: Vec3, p2: Vec3, k: usize) -> Ordering {
     orient2d(plane(p0, i, j), plane(p1, i, j), plane(p2, i, j))
 }
 
+/// Sign of the watertight test's edge function for the directed edge `p -> q` of a ray from
+/// `o` along `d` (the sheared `qx py - qy px` with the shear axes `k = [kx, ky, kz]`), in exact
+/// arithmetic on the `f32` inputs. The sheared cross product of `a = p - o` and `b = q - o`
+/// is the triple product `(a x b) . d / d[kz]` in the permuted axes, so this is the sign of
+/// `-(a x b) . d` times that of `d[kz]`: 6 monomials `a_i b_j d_k`, each difference split
+/// into its rounded value and error, every product expanded exactly.
+pub fn edge_sign(o: Vec3, d: Vec3, p: Vec3, q: Vec3, k: [usize; 3]) -> Ordering {
+    let diff = |v: Vec3, i: usize| {
+        let (s, e) = two_sum(v[i] as f64, -(o[i] as f64));
+        [s, e]
+    };
+    let (a, b) = (k.map(|i| diff(p, i)), k.map(|i| diff(q, i)));
+    let dk = k.map(|i| d[i] as f64);
+    let mut e = Vec::with_capacity(96);
+    // (a x b) . d = sum over the cyclic (i, j, l) of (a_i b_j - a_j b_i) d_l.
+    for (i, j, l) in [(1, 2, 0), (2, 0, 1), (0, 1, 2)] {
+        for (x, y, sign) in [(a[i], b[j], 1.0), (a[j], b[i], -1.0)] {
+            for xv in x {
+                for yv in y {
+                    let (hi, lo) = two_product(xv, yv);
+                    for part in [lo, hi] {
+                        let (ph, pl) = two_product(part, dk[l]);
+                        grow(&mut e, sign * pl);
+                        grow(&mut e, sign * ph);
+                    }
+                }
+            }
+        }
+    }
+    let triple = sign(&e);
+    if dk[2] < 0.0 {
+        triple
+    } else {
+        triple.reverse()
+    }
+}
+
 /// True exactly when the cross product `(p1 - p0) x (p2 - p0)` is the zero vector in exact
 /// arithmetic on the `f32` inputs: the corners are collinear or coincide, so the triangle has
 /// no area. Any triangle with the least real area gives `false`, whatever its size or distance

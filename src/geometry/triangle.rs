@@ -12,8 +12,9 @@
 //! against a float64 reference).
 
 use super::conditioning::{Shear64, plane_distance};
-use super::exact::triangle_area_is_zero;
+use super::exact::{edge_sign, triangle_area_is_zero};
 use crate::math::{Ray, Vec3, Vec3A};
+use std::cmp::Ordering;
 
 /// Per-ray constants of the shear transform, computed once per ray and reused for every
 /// triangle it is tested against.
@@ -125,7 +126,7 @@ pub fn intersect_triangle(
         !(e2.abs() > ma * mb + UNDERFLOW),
     ];
     if refine[0] | refine[1] | refine[2] {
-        return refined_hit(ray, [kx, ky, kz], p0, p1, p2);
+        return rare_refined_hit(ray, [kx, ky, kz], p0, p1, p2);
     }
     // Every sign is certain from here on.
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
@@ -135,7 +136,7 @@ pub fn intersect_triangle(
     if !(det.abs() >= f32::MIN_POSITIVE && det.is_finite()) {
         // A determinant below the normal range (a triangle of ~1e-19 seen from nearby: its
         // reciprocal overflows) or beyond f32: the decision stands, the numbers come from f64.
-        return refined_hit(ray, [kx, ky, kz], p0, p1, p2);
+        return rare_refined_hit(ray, [kx, ky, kz], p0, p1, p2);
     }
     let inv_det = 1.0 / det;
     // No early range test on the sheared f32 distance: it can be off by 1e-2 at grazing angles,
@@ -165,11 +166,25 @@ pub(super) const UNDERFLOW: f32 = f32::from_bits(4);
 /// `f32` range. Each value depends only on the ray and the edge's two vertices, so both
 /// triangles sharing the edge decide alike; where the `f32` sign was certain, the `f64` value
 /// has the same sign, so the decision is the `f32` test's wherever that one is sure.
-#[cold]
-#[inline(never)]
 fn refined_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
     let shear = Shear64::new(ray, k);
-    let (e0, e1, e2) = (shear.edge(p1, p2), shear.edge(p2, p0), shear.edge(p0, p1));
+    // Within its f64 bound of 0 an edge's sign is decided exactly (a ray 1e-20 off the edge of
+    // a unit triangle has an f64 edge function of exactly 0): then every decision is the
+    // exact one, the hit lies in the closed triangle, and so inside every box around it.
+    let edge = |p: Vec3, q: Vec3| {
+        let (e, bound) = shear.edge(p, q);
+        if e.abs() > bound {
+            return e;
+        }
+        match edge_sign(ray.origin, ray.dir, p, q, k) {
+            Ordering::Equal => 0.0,
+            // The value only weighs the barycentrics: keep it unless its sign is wrong.
+            s => f64::MIN_POSITIVE
+                .max(e.abs())
+                .copysign(if s.is_lt() { -1.0 } else { 1.0 }),
+        }
+    };
+    let (e0, e1, e2) = (edge(p1, p2), edge(p2, p0), edge(p0, p1));
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return None;
     }
@@ -179,17 +194,21 @@ fn refined_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option
     if det == 0.0 || triangle_area_is_zero(p0, p1, p2) {
         return None;
     }
-    let t = plane_distance(ray, p0, p1, p2).or_else(|| {
-        // Parallel to the plane in f64 yet with a sheared area: the sheared distance.
-        let d = ray.dir.as_dvec3();
-        let z = |p: Vec3| (p.as_dvec3() - ray.origin.as_dvec3())[k[2]] / d[k[2]];
-        Some(((e0 * z(p0) + e1 * z(p1) + e2 * z(p2)) / det) as f32)
-    })?;
+    // `None` only for a ray parallel to the plane in compensated arithmetic, whose exact edge
+    // functions all vanish: no hit.
+    let t = plane_distance(ray, p0, p1, p2)?;
     in_range(t, ray).then(|| TriangleHit {
         t,
         u: (e1 / det) as f32,
         v: (e2 / det) as f32,
     })
+}
+
+/// [`refined_hit`] where the `f32` test needs it: rarely, so kept out of its way.
+#[cold]
+#[inline(never)]
+fn rare_refined_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
+    refined_hit(ray, k, p0, p1, p2)
 }
 
 /// `t` inside the ray's `(t_min, t_max]` and finite: a distance beyond `f32::MAX` rounds to
@@ -228,34 +247,11 @@ pub fn intersect_triangle_fast(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Optio
 }
 
 /// `--precision double`: the watertight test with every step (shear, edge functions,
-/// barycentrics, distance) in `f64`, rounded to `f32` once at the end.
+/// barycentrics, distance) in `f64`, rounded to `f32` once at the end; an edge function within
+/// its `f64` error bound of 0 is decided exactly, as in the default test's refinement.
 #[inline]
 pub fn intersect_triangle_double(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
-    let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-    let [kx, ky, kz] = shear_axes(ray.dir);
-    let (sx, sy) = (d[kx] / d[kz], d[ky] / d[kz]);
-    let a = p0.as_dvec3() - o;
-    let b = p1.as_dvec3() - o;
-    let c = p2.as_dvec3() - o;
-    let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
-    let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
-    let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
-    let e0 = cx * by - cy * bx;
-    let e1 = ax * cy - ay * cx;
-    let e2 = bx * ay - by * ax;
-    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
-        return None;
-    }
-    let det = e0 + e1 + e2;
-    if det == 0.0 {
-        return None;
-    }
-    let t = plane_distance(ray, p0, p1, p2)?;
-    in_range(t, ray).then(|| TriangleHit {
-        t,
-        u: (e1 / det) as f32,
-        v: (e2 / det) as f32,
-    })
+    refined_hit(ray, shear_axes(ray.dir), p0, p1, p2)
 }
 
 /// Unnormalised geometric normal `(p1 - p0) x (p2 - p0)`: counter-clockwise faces point at the viewer.
@@ -304,6 +300,28 @@ mod tests {
             let h1 = hit(o, dir, [a, b, c]);
             let h2 = hit(o, dir, [a, c, d]);
             assert!(h1.is_some() || h2.is_some(), "leak at s={s}");
+        }
+    }
+
+    #[test]
+    fn edges_the_f64_shear_rounds_to_zero_are_decided_exactly() {
+        // The ray crosses z = 0 at (1e-20, -1e-20): outside the edge y = 0 of a unit triangle
+        // by 1e-20, where the f64 sheared coordinates (near 1) have no bits left. As "on the
+        // edge" it was a hit that every box test (y >= 0) culled, so hierarchies disagreed
+        // with brute force (found by the query fuzz target).
+        let tri = [Vec3::X, Vec3::Y, -Vec3::X];
+        for (o, d) in [
+            (Vec3::new(0.0, 0.0, 1e-20), Vec3::new(1.0, -1.0, -1.0)),
+            (Vec3::new(0.0, 0.0, 1e-30), Vec3::new(1.0, -1.0, -1.0)),
+        ] {
+            assert_eq!(hit(o, d, tri), None);
+            assert_eq!(
+                intersect_triangle_double(&Ray::new(o, d), tri[0], tri[1], tri[2]),
+                None
+            );
+            // Just inside the edge instead: a hit.
+            let inside = Vec3::new(0.0, 2e-20, o.z);
+            assert!(hit(inside, d, tri).is_some());
         }
     }
 
