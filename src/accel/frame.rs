@@ -69,6 +69,28 @@ pub enum Framing {
     Miss,
 }
 
+impl Framing {
+    /// The ray to trace for the caller's `given` ray: itself, the moved one, or none.
+    #[inline(always)]
+    pub fn ray<'a>(&'a self, given: &'a Ray) -> Option<&'a Ray> {
+        match self {
+            Framing::AsGiven => Some(given),
+            Framing::Moved(m) => Some(&m.ray),
+            Framing::Miss => None,
+        }
+    }
+
+    /// The caller's `t` of a hit at `t` on [`Framing::ray`] (see [`Moved::world_t`]).
+    #[inline(always)]
+    pub fn caller_t(&self, t: f32) -> Option<f32> {
+        match self {
+            Framing::AsGiven => Some(t),
+            Framing::Moved(m) => m.world_t(t),
+            Framing::Miss => None,
+        }
+    }
+}
+
 /// A ray moved along itself to near the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Moved {

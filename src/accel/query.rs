@@ -3,7 +3,7 @@
 //! [`RayFrame`] how the ray is traced: as given, or from near the scene when its origin lies
 //! far away (the hit's `t` is then mapped back to the caller's ray), or not at all.
 
-use super::{Accel, Framing, Hit, PrimHit, Structure, Traversal, TraversalStats, leaves};
+use super::{Accel, Hit, PrimHit, Structure, Traversal, TraversalStats, leaves};
 use crate::geometry::{Geometry, PackedWatertight, Precision, with_prim_test};
 use crate::math::Ray;
 
@@ -57,24 +57,17 @@ impl Accel {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> Option<Traced> {
-        let traced = |hit: Hit, ray: &Ray, t: f32| Traced {
+        let framing = self.frame.frame(ray);
+        let local = framing.ray(ray)?;
+        let hit = self.nearest_in_geometry(geometry, precision, local, stats)?;
+        Some(Traced {
             hit,
             ray: Ray {
                 t_max: hit.hit.t,
-                ..*ray
+                ..*local
             },
-            t,
-        };
-        match self.frame.frame(ray) {
-            Framing::AsGiven => self
-                .nearest_in_geometry(geometry, precision, ray, stats)
-                .map(|h| traced(h, ray, h.hit.t)),
-            Framing::Moved(m) => {
-                let h = self.nearest_in_geometry(geometry, precision, &m.ray, stats)?;
-                Some(traced(h, &m.ray, m.world_t(h.hit.t)?))
-            }
-            Framing::Miss => None,
-        }
+            t: framing.caller_t(hit.hit.t)?,
+        })
     }
 
     #[inline(always)]
@@ -103,10 +96,8 @@ impl Accel {
         stats: &mut TraversalStats,
     ) -> bool {
         let framing = self.frame.frame(ray);
-        let local = match &framing {
-            Framing::AsGiven => ray,
-            Framing::Moved(m) => &m.ray,
-            Framing::Miss => return false,
+        let Some(local) = framing.ray(ray) else {
+            return false;
         };
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
             return wide.occluded(local, stats, PackedWatertight::new(packed, geometry, local));
@@ -125,18 +116,15 @@ impl Accel {
     where
         F: FnMut(u32, &Ray) -> Option<PrimHit>,
     {
-        match self.frame.frame(ray) {
-            Framing::AsGiven => self.nearest(ray, stats, test),
-            Framing::Moved(m) => {
-                let h = self.nearest(&m.ray, stats, test)?;
-                let t = m.world_t(h.hit.t)?;
-                Some(Hit {
-                    prim: h.prim,
-                    hit: PrimHit { t, ..h.hit },
-                })
-            }
-            Framing::Miss => None,
-        }
+        let framing = self.frame.frame(ray);
+        let h = self.nearest(framing.ray(ray)?, stats, test)?;
+        Some(Hit {
+            prim: h.prim,
+            hit: PrimHit {
+                t: framing.caller_t(h.hit.t)?,
+                ..h.hit
+            },
+        })
     }
 
     /// True when anything blocks `ray` in `(t_min, t_max]`; stops at the first hit found.
@@ -145,11 +133,10 @@ impl Accel {
     where
         F: FnMut(u32, &Ray) -> bool,
     {
-        match self.frame.frame(ray) {
-            Framing::AsGiven => self.any(ray, stats, test),
-            Framing::Moved(m) => self.any(&m.ray, stats, test),
-            Framing::Miss => false,
-        }
+        let framing = self.frame.frame(ray);
+        framing
+            .ray(ray)
+            .is_some_and(|local| self.any(local, stats, test))
     }
 
     /// [`Accel::intersect`] of a ray traced as given.

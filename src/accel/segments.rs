@@ -43,7 +43,10 @@ struct Segments {
 impl Segments {
     fn new(ray: &Ray, p: &SegmentParams) -> Self {
         Self {
-            t0: ray.t_min,
+            // From -inf no segment would end anywhere but -inf, so none would search anything
+            // before the last, unbounded one, which then skips every leaf entered "before its
+            // start" (an entry below -f32::MAX rounds to -inf) as already searched.
+            t0: ray.t_min.max(-f32::MAX),
             len: p.init,
             max: p.max,
             // In f64: squares of subnormal or huge components under/overflow in f32.
@@ -274,6 +277,44 @@ mod tests {
             "the farther hit is at z = 25.4, not {}",
             original.hit.t
         );
+    }
+
+    #[test]
+    fn segments_from_minus_infinity_still_search_every_leaf() {
+        // t_min = -inf and a direction of ~5e-39: the leaf is entered at -3.8e38 (below
+        // -f32::MAX once rounded) and hit at t = 1. Marching from -inf, every segment ended at
+        // -inf and the last one skipped the leaf as searched (found by the query fuzz target).
+        let mut g = Geometry::new();
+        for c in [
+            [
+                Vec3::new(2.0, 0.0, 0.0),
+                Vec3::new(0.0, 0.0, 2.0),
+                Vec3::ZERO,
+            ],
+            [
+                Vec3::new(0.0, 0.0, 2.0),
+                Vec3::ZERO,
+                Vec3::new(0.0, -2.0, 0.0),
+            ],
+        ] {
+            g.add_mesh(Mesh::new(c.to_vec(), None, None, vec![[0, 1, 2]]).unwrap());
+        }
+        let (x, z) = (f32::from_bits(0x0039_0400), f32::from_bits(0x0004_0000));
+        let ray = Ray {
+            origin: Vec3::new(x, -0.5, 0.5),
+            dir: Vec3::new(-x, 0.0, -z),
+            t_min: f32::NEG_INFINITY,
+            t_max: f32::INFINITY,
+        };
+        let bvh = sah::build(&g.prim_bounds(), &[], &BuildOptions { max_leaf_size: 4 });
+        let wr = WatertightRay::new(ray.dir);
+        let test = |p: u32, r: &Ray| g.intersect(p, r, &wr);
+        let params = SegmentParams {
+            init: 0.05,
+            max: 1.6,
+        };
+        let got = bvh.intersect_segments(&ray, &params, &mut TraversalStats::default(), test);
+        assert_eq!(got.map(|h| (h.prim, h.hit.t)), Some((1, 1.0)));
     }
 
     #[test]

@@ -25,6 +25,7 @@ pub mod toml;
 pub use builtin::{default_scene, default_scene_at, default_scene_with};
 pub use error::SceneError;
 pub use inputs::{InputFile, file_id, record_inputs};
+pub(crate) use regular::file_kind;
 pub use regular::read_regular;
 pub use resolver::{Resolver, read_file, read_file_bytes, read_text};
 pub use toml::Override;

@@ -48,12 +48,12 @@ fn check_regular(meta: &Metadata) -> io::Result<()> {
     }
     Err(io::Error::new(
         io::ErrorKind::InvalidInput,
-        format!("not a regular file ({})", kind(&meta.file_type())),
+        format!("not a regular file ({})", file_kind(&meta.file_type())),
     ))
 }
 
-/// What a non-regular file is, for the message.
-fn kind(t: &FileType) -> &'static str {
+/// What a non-regular file is, for the message (inputs' and outputs').
+pub(crate) fn file_kind(t: &FileType) -> &'static str {
     if t.is_dir() {
         return "a directory";
     }

@@ -20,7 +20,7 @@
 //! if it belongs to the user or to the directory's owner. Another user's link planted at
 //! `/tmp/out.exr` cannot make a render replace the user's own files.
 
-use std::fs::{FileType, Metadata};
+use std::fs::Metadata;
 use std::io;
 use std::path::{Path, PathBuf};
 
@@ -80,37 +80,14 @@ pub(super) fn resolve(path: &Path, flag: Option<&str>) -> Result<Target, OutputE
             flag: flag.map(str::to_owned),
             path: path.to_path_buf(),
             resolved: (links > 0).then_some(file),
-            kind: kind(&meta.file_type()),
+            // In the words of the input side's refusals, so an input and an output that are
+            // the same kind of file are described alike.
+            kind: crate::formats::file_kind(&meta.file_type()),
         });
     }
     Err(unresolvable(io::Error::other(format!(
         "a symlink loop (more than {MAX_LINKS} links in a row)"
     ))))
-}
-
-/// What a non-regular file is, in the words of `formats::read_regular`'s refusals, so an
-/// input and an output that are the same kind of file are described alike.
-fn kind(t: &FileType) -> &'static str {
-    if t.is_dir() {
-        return "a directory";
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_fifo() {
-            return "a FIFO";
-        }
-        if t.is_char_device() {
-            return "a character device";
-        }
-        if t.is_block_device() {
-            return "a block device";
-        }
-        if t.is_socket() {
-            return "a socket";
-        }
-    }
-    "a special file"
 }
 
 /// The `protected_symlinks` rule (module docs) for the link at `link` with metadata `meta`.

@@ -5,9 +5,7 @@
 //! place, makes pairing a scene with another scene's accelerator impossible to write.
 
 use super::{Interaction, Scene, Settings};
-use crate::accel::{
-    Accel, AccelKind, BuildOptions, Framing, Hit, Traced, Traversal, TraversalStats,
-};
+use crate::accel::{Accel, AccelKind, BuildOptions, Hit, Traced, Traversal, TraversalStats};
 use crate::camera::Camera;
 use crate::geometry::with_prim_test;
 use crate::math::Ray;
@@ -111,11 +109,7 @@ impl World {
     pub fn first_blocker(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<f32> {
         // The blocker's `t` is measured on the ray the query traces: a far ray's is mapped back.
         let framing = self.accel.frame().frame(ray);
-        let (local, moved) = match &framing {
-            Framing::AsGiven => (ray, None),
-            Framing::Moved(m) => (&m.ray, Some(m)),
-            Framing::Miss => return None,
-        };
+        let local = framing.ray(ray)?;
         let g = self.scene.geometry();
         let mut blocker = None;
         with_prim_test!(g, self.scene.settings().precision, local, |test| {
@@ -127,9 +121,6 @@ impl World {
                 None => false,
             })
         });
-        match moved {
-            Some(m) => blocker.and_then(|t| m.world_t(t)),
-            None => blocker,
-        }
+        framing.caller_t(blocker?)
     }
 }
