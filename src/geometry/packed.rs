@@ -9,7 +9,7 @@
 //! lane the filter keeps goes through `intersect_triangle` itself, so the answers are exactly
 //! those of the per-primitive path, bit for bit.
 
-use super::triangle::{UNDERFLOW, WatertightRay, intersect_triangle};
+use super::triangle::{PRODUCT_UNDERFLOW, UNDERFLOW, WatertightRay, intersect_triangle};
 use super::{Geometry, Primitive};
 use crate::accel::leaves::{AnyLeaves, ClosestLeaves};
 use crate::accel::{Closest, LEAF_ALIGN, PADDING, TraversalStats};
@@ -132,6 +132,7 @@ impl<'a> PackedWatertight<'a> {
             let (sx, sy) = (_mm_set1_ps(self.wr.sx), _mm_set1_ps(self.wr.sy));
             let o = self.origin.map(|x| _mm_set1_ps(x));
             let w = self.weight.map(|x| _mm_set1_ps(x));
+            let product_underflow = _mm_set1_ps(PRODUCT_UNDERFLOW);
             let abs = |x: __m128| _mm_andnot_ps(_mm_set1_ps(-0.0), x);
             // One vertex relative to the origin, sheared; and its error magnitude.
             let vertex = |k: usize| {
@@ -139,8 +140,11 @@ impl<'a> PackedWatertight<'a> {
                 let y = _mm_sub_ps(row(3 * k + 1), o[1]);
                 let z = _mm_sub_ps(row(3 * k + 2), o[2]);
                 let m = _mm_add_ps(
-                    _mm_add_ps(_mm_mul_ps(abs(x), w[0]), _mm_mul_ps(abs(y), w[1])),
-                    _mm_mul_ps(abs(z), w[2]),
+                    _mm_add_ps(
+                        _mm_add_ps(_mm_mul_ps(abs(x), w[0]), _mm_mul_ps(abs(y), w[1])),
+                        _mm_mul_ps(abs(z), w[2]),
+                    ),
+                    product_underflow,
                 );
                 let sheared_x = _mm_sub_ps(x, _mm_mul_ps(sx, z));
                 let sheared_y = _mm_sub_ps(y, _mm_mul_ps(sy, z));

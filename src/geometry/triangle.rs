@@ -40,7 +40,10 @@ impl WatertightRay {
         let d = dir.to_array();
         let (sx, sy) = (d[kx] / d[kz], d[ky] / d[kz]);
         let mut err_w = [EDGE_WEIGHT; 3];
-        err_w[kz] = (sx.abs() + sy.abs()) * EDGE_WEIGHT;
+        // A ratio below the normal range (a direction component 2^126 times smaller than the
+        // largest) rounds by up to 2^-150 absolutely, not relatively: counted as if the ratio
+        // were that much larger (see `SHEAR_UNDERFLOW`).
+        err_w[kz] = (sx.abs() + sy.abs() + SHEAR_UNDERFLOW) * EDGE_WEIGHT;
         Self {
             kx,
             ky,
@@ -114,7 +117,7 @@ pub fn intersect_triangle(
     // grazes the plane) is re-evaluated from an f64 shear; the decision and the value depend
     // only on the ray and the edge, so neighbours agree and the test stays watertight.
     // Each vertex's sheared magnitude, pre-scaled so a product of two is the edge's bound.
-    let m = |v: Vec3| Vec3A::from(v).abs().dot(wr.err_w);
+    let m = |v: Vec3| Vec3A::from(v).abs().dot(wr.err_w) + PRODUCT_UNDERFLOW;
     let (ma, mb, mc) = (m(a), m(b), m(c));
     // Written `!(|e| > bound)` so that a NaN (an overflowed product, `inf - inf`: only for
     // coordinates beyond the scene limits) is refined too, in f64, where no product of f32
@@ -154,6 +157,17 @@ pub fn intersect_triangle(
         v: e2 * inv_det,
     })
 }
+
+/// Added to the shear ratios' weight: an underflowed ratio errs by up to 2^-150, which moves a
+/// sheared coordinate by `2^-150 |z|`; the edge bound, a product of two weights times
+/// `gamma(8)`, covers that when each ratio counts `2^-150 * 2 / gamma(8)` more (< 2^-127).
+const SHEAR_UNDERFLOW: f32 = f32::from_bits(0x0040_0000); // 2^-127
+
+/// Added to each vertex's weighted magnitude: a product `s * z` below the normal range errs by
+/// up to 2^-150 absolutely, and an edge function multiplies that sheared coordinate by another
+/// vertex's (at most its magnitude over `EDGE_WEIGHT`); `(m_a + e)(m_b + e)` covers both
+/// products' errors when `e >= 2^-149 / EDGE_WEIGHT` (< 2^-138).
+pub(super) const PRODUCT_UNDERFLOW: f32 = f32::from_bits(0x0800); // 2^-138
 
 /// The absolute error an `f32` edge function can gain where its products fall below the
 /// normal range (each rounds by up to half the smallest subnormal, 2^-150; with the
