@@ -85,12 +85,19 @@ fn normal_dd(p0: DVec3, p1: DVec3, p2: DVec3) -> (DVec3, DVec3) {
 pub(crate) fn plane_distance(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<f32> {
     let (a, b, c) = (p0.as_dvec3(), p1.as_dvec3(), p2.as_dvec3());
     let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-    let n = (b - a).cross(c - a);
+    let (e1, e2) = (b - a, c - a);
+    let n = e1.cross(e2);
     let den = n.dot(d);
     let num = n.dot(a - o);
+    // The normal itself cancels on slivers: each component errs by up to 4 eps of
+    // |e1| |e2| (max norms), so it is trusted to 2^-30 only above 2^-21 of that product.
+    let normal_ok =
+        n.abs().max_element() > e1.abs().max_element() * e2.abs().max_element() * 2f64.powi(-21);
     // The relative error of the f64 denominator is ~4 eps |n| |d| / |den|.
     let scale = n.abs().dot(d.abs());
-    if den.abs() > scale * 2f64.powi(-26) && num.abs() > n.abs().dot((a - o).abs()) * 2f64.powi(-26)
+    if normal_ok
+        && den.abs() > scale * 2f64.powi(-26)
+        && num.abs() > n.abs().dot((a - o).abs()) * 2f64.powi(-26)
     {
         return (den != 0.0).then(|| (num / den) as f32);
     }
