@@ -11,6 +11,9 @@
 use super::twofloat::{Dd, diff_f32, two_prod};
 use crate::math::{Aabb, Ray, Vec3, f32_down, f32_up};
 
+/// Below this fraction of `|d|^2 r^2` the double-double discriminant's sign is not certain.
+const TANGENT_BAND: f64 = 1.0 / (1u128 << 95) as f64;
+
 /// A sphere in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
@@ -106,10 +109,14 @@ impl Sphere {
         }
         let (rel0, rel1) = (err_q / qs + 4.0 * U, err_q / qs + err_c / ac + 4.0 * U);
         // A root needs to be accurate only when it could decide the answer, i.e. when it may lie
-        // inside the ray's interval.
+        // inside the ray's interval. That depends on `t_max`, which shrinks as a traversal finds
+        // hits, so what this path returns must be what the double-double path would: a root
+        // counts as outside only if all it may be rounds outside (a tie with `t_max` would be
+        // a hit there), and an accurate root is taken only if all it may be rounds alike.
         let settled = |t: f64, rel: f64| {
             let e = t.abs() * rel;
-            rel <= TOL || t + e <= ray.t_min as f64 || t - e > ray.t_max as f64
+            let outside = ((t + e) as f32) <= ray.t_min || ((t - e) as f32) > ray.t_max;
+            (rel <= TOL && (t - e) as f32 == (t + e) as f32) || outside
         };
         if !(settled(t0, rel0) && settled(t1, rel1)) {
             return self.intersect_double(ray);
@@ -138,6 +145,13 @@ impl Sphere {
         let r2 = Dd::from_f64(r * r); // exact
         let disc = a.mul(r2).sub(cross2);
         if disc.is_negative() {
+            return None;
+        }
+        // Within its rounding of 0 (a tangency closer than 2^-95 |d|^2 r^2) the sign is not
+        // known: the line may miss the ball, and its box, by a hair. A hit then counts only if
+        // the line meets the sphere's box as the traversals test it, so no hierarchy culls a
+        // hit brute force reports.
+        if disc.hi <= TANGENT_BAND * a.hi * r2.hi && !crate::accel::meets_box(&self.bounds(), ray) {
             return None;
         }
         let k = sum3(&|i| f[i].square()).sub(r2);
