@@ -5,7 +5,7 @@
 use super::common::{Rng, scenes};
 use super::exact::{self, q, ulps_from};
 use super::harness::Everywhere;
-use lumis::geometry::{Geometry, Mesh};
+use lumis::geometry::{Geometry, Mesh, Precision, Sphere};
 use lumis::math::{Ray, Vec3};
 use num_traits::Signed;
 
@@ -156,4 +156,79 @@ fn hits_with_wild_directions_match_exact_arithmetic() {
         checked > 300 && checked_hits > 20,
         "{checked} rays, {checked_hits} hits checked"
     );
+}
+
+/// `f32::from_bits`, for the fuzz target's exact inputs.
+fn b(bits: u32) -> f32 {
+    f32::from_bits(bits)
+}
+
+#[test]
+fn components_2_to_the_126_apart_keep_every_accelerator_on_brute_force() {
+    // Found by the query fuzz target. (1) A direction (1e17, 0, -2.4e-38): the f32 shear
+    // ratio underflows to 0 (the true 2.4e-55 moves a sheared coordinate 2e17 away by 4.8e-38),
+    // so the packed SIMD filter took a lane's edge sign as certain and dropped a hit the
+    // scalar test found. (2) A ray from f32::MAX grazing a sphere of radius 5.5e-20, tangent
+    // within the double-double discriminant's rounding: the sphere reported a hit on a line
+    // that misses its box by 1e-57, which every hierarchy culled.
+    let mut g = Geometry::new();
+    let big = b(0x5c31_a2bc); // 2e17
+    let quad = vec![
+        Vec3::ZERO,
+        Vec3::new(big, 0.0, 0.0),
+        Vec3::new(0.0, big, 0.0),
+        Vec3::new(-big, 0.0, 0.0),
+    ];
+    g.add_mesh(Mesh::new(quad, None, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap());
+    let ray = Ray {
+        origin: Vec3::new(b(3), 0.0, b(0x0102_0000)),
+        dir: Vec3::new(b(0x5bb1_a2bc), 0.0, b(0x8102_0000)),
+        t_min: f32::NEG_INFINITY,
+        t_max: f32::INFINITY,
+    };
+    let hit = Everywhere::new(&g)
+        .closest(&ray)
+        .expect("on the shared edge");
+    assert_eq!((hit.prim, hit.hit.t), (0, 1.0));
+
+    let mut g = Geometry::new();
+    g.add_sphere(Sphere {
+        center: Vec3::ZERO,
+        radius: b(0x1f81_8000), // 5.48e-20
+    });
+    let ray = Ray {
+        origin: Vec3::new(f32::MAX, 1e-30, b(0x9dc2_8000)),
+        dir: Vec3::new(-f32::MAX, -1e-30, b(0x1f8d_a800)),
+        t_min: 0.0,
+        t_max: f32::INFINITY,
+    };
+    for precision in [Precision::Watertight, Precision::Double] {
+        Everywhere::new(&g).closest_with(precision, &ray);
+    }
+}
+
+#[test]
+fn a_vertex_of_a_sliver_is_hit_at_its_exact_distance() {
+    // Found by the query fuzz target: a ray along x with |d| = 7.4e-39 through the vertex
+    // (0, 0, 0) of a sliver whose f64 normal cancels to 1% (its corners span 9 units and
+    // 1.3e-14 across): t was 0.14% short. The plane distance now takes the compensated
+    // normal whenever the plain one cancels.
+    let sliver = vec![
+        Vec3::new(1.0, 9.0, 0.5),
+        Vec3::ZERO,
+        Vec3::new(0.0, b(0x0015_00fc), b(0x286b_0000)),
+    ];
+    let mut g = Geometry::new();
+    g.add_mesh(Mesh::new(sliver.clone(), None, None, vec![[0, 1, 2]]).unwrap());
+    let ray = Ray::new(
+        Vec3::new(-1.0, 0.0, 0.0),
+        Vec3::new(b(0x0050_fc00), 0.0, 0.0),
+    );
+    let t = exact::plane_t(ray.origin, ray.dir, [sliver[0], sliver[1], sliver[2]]).unwrap();
+    for precision in [Precision::Watertight, Precision::Double] {
+        let hit = Everywhere::new(&g)
+            .closest_with(precision, &ray)
+            .expect("at a vertex");
+        assert!(ulps_from(hit.hit.t, &t) <= 1.0, "t {} for {t}", hit.hit.t);
+    }
 }
