@@ -12,7 +12,7 @@
 //! against a float64 reference).
 
 use super::conditioning::{Shear64, plane_distance};
-use super::exact::{edge_sign, triangle_area_is_zero};
+use super::exact::edge_sign;
 use crate::math::{Ray, Vec3, Vec3A};
 use std::cmp::Ordering;
 
@@ -129,7 +129,7 @@ pub fn intersect_triangle(
         !(e2.abs() > ma * mb + UNDERFLOW),
     ];
     if refine[0] | refine[1] | refine[2] {
-        return rare_refined_hit(ray, [kx, ky, kz], p0, p1, p2);
+        return rare_refined_hit(ray, [kx, ky, kz], [p0, p1, p2], [e0, e1, e2], refine);
     }
     // Every sign is certain from here on.
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
@@ -139,7 +139,7 @@ pub fn intersect_triangle(
     if !(det.abs() >= f32::MIN_POSITIVE && det.is_finite()) {
         // A determinant below the normal range (a triangle of ~1e-19 seen from nearby: its
         // reciprocal overflows) or beyond f32: the decision stands, the numbers come from f64.
-        return rare_refined_hit(ray, [kx, ky, kz], p0, p1, p2);
+        return rare_refined_hit(ray, [kx, ky, kz], [p0, p1, p2], [e0, e1, e2], [true; 3]);
     }
     let inv_det = 1.0 / det;
     // No early range test on the sheared f32 distance: it can be off by 1e-2 at grazing angles,
@@ -175,22 +175,32 @@ pub(super) const PRODUCT_UNDERFLOW: f32 = f32::from_bits(0x0800); // 2^-138
 /// ~1e-19 and smaller.
 pub(super) const UNDERFLOW: f32 = f32::from_bits(4);
 
-/// [`intersect_triangle`] with all three edge functions in `f64`, for a ray through or near an
-/// edge (some `f32` value within its error bound of 0) or a determinant outside the normal
-/// `f32` range. Each value depends only on the ray and the edge's two vertices, so both
-/// triangles sharing the edge decide alike; where the `f32` sign was certain, the `f64` value
-/// has the same sign, so the decision is the `f32` test's wherever that one is sure.
-fn refined_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
+/// The edges [`intersect_triangle`] could not decide in `f32` (`refine`), or all three: each
+/// re-evaluated from the `f64` shear, and where that too lies within its rounding of 0, decided
+/// exactly ([`edge_sign`]: a ray 1e-20 off the edge of a unit triangle has an `f64` edge
+/// function of exactly 0). The other edges keep their `f32` values, whose signs were certain.
+/// So every sign is the exact one: both triangles sharing an edge decide alike, a hit lies in
+/// the closed triangle (and so inside every box around it), and a triangle without area,
+/// whose exact edge functions sum to 0, is never hit.
+fn refined_hit(
+    ray: &Ray,
+    k: [usize; 3],
+    p: [Vec3; 3],
+    f32_edges: [f32; 3],
+    refine: [bool; 3],
+) -> Option<TriangleHit> {
     let shear = Shear64::new(ray, k);
-    // Within its f64 bound of 0 an edge's sign is decided exactly (a ray 1e-20 off the edge of
-    // a unit triangle has an f64 edge function of exactly 0): then every decision is the
-    // exact one, the hit lies in the closed triangle, and so inside every box around it.
-    let edge = |p: Vec3, q: Vec3| {
-        let (e, bound) = shear.edge(p, q);
+    // Edge i runs from corner i + 1 to corner i + 2.
+    let edge = |i: usize| {
+        if !refine[i] {
+            return f32_edges[i] as f64;
+        }
+        let (a, b) = (p[(i + 1) % 3], p[(i + 2) % 3]);
+        let (e, bound) = shear.edge(a, b);
         if e.abs() > bound {
             return e;
         }
-        match edge_sign(ray.origin, ray.dir, p, q, k) {
+        match edge_sign(ray.origin, ray.dir, a, b, k) {
             Ordering::Equal => 0.0,
             // The value only weighs the barycentrics: keep it unless its sign is wrong.
             s => f64::MIN_POSITIVE
@@ -198,19 +208,17 @@ fn refined_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option
                 .copysign(if s.is_lt() { -1.0 } else { 1.0 }),
         }
     };
-    let (e0, e1, e2) = (edge(p1, p2), edge(p2, p0), edge(p0, p1));
+    let (e0, e1, e2) = (edge(0), edge(1), edge(2));
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return None;
     }
     let det = e0 + e1 + e2;
-    // A triangle without area has det = 0 in exact arithmetic, whatever the f64 shear's
-    // rounding makes of it (collinear corners seen along their own line): never a hit.
-    if det == 0.0 || triangle_area_is_zero(p0, p1, p2) {
+    if det == 0.0 {
         return None;
     }
     // `None` only for a ray parallel to the plane in compensated arithmetic, whose exact edge
     // functions all vanish: no hit.
-    let t = plane_distance(ray, p0, p1, p2)?;
+    let t = plane_distance(ray, p[0], p[1], p[2])?;
     in_range(t, ray).then(|| TriangleHit {
         t,
         u: (e1 / det) as f32,
@@ -218,11 +226,17 @@ fn refined_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option
     })
 }
 
-/// [`refined_hit`] where the `f32` test needs it: rarely, so kept out of its way.
+/// [`refined_hit`] where the `f32` test needs it, kept out of its way.
 #[cold]
 #[inline(never)]
-fn rare_refined_hit(ray: &Ray, k: [usize; 3], p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
-    refined_hit(ray, k, p0, p1, p2)
+fn rare_refined_hit(
+    ray: &Ray,
+    k: [usize; 3],
+    p: [Vec3; 3],
+    f32_edges: [f32; 3],
+    refine: [bool; 3],
+) -> Option<TriangleHit> {
+    refined_hit(ray, k, p, f32_edges, refine)
 }
 
 /// `t` inside the ray's `(t_min, t_max]` and finite: a distance beyond `f32::MAX` rounds to
@@ -265,7 +279,7 @@ pub fn intersect_triangle_fast(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Optio
 /// its `f64` error bound of 0 is decided exactly, as in the default test's refinement.
 #[inline]
 pub fn intersect_triangle_double(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
-    refined_hit(ray, shear_axes(ray.dir), p0, p1, p2)
+    refined_hit(ray, shear_axes(ray.dir), [p0, p1, p2], [0.0; 3], [true; 3])
 }
 
 /// Unnormalised geometric normal `(p1 - p0) x (p2 - p0)`: counter-clockwise faces point at the viewer.
