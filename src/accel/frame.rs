@@ -24,7 +24,7 @@
 use glam::DVec3;
 
 use crate::geometry::twofloat::{Dd, two_prod, two_sum};
-use crate::math::{Aabb, Ray, Vec3, f32_down, f32_up};
+use crate::math::{Aabb, Ray, Vec3, Vec3A, f32_down, f32_up};
 
 /// The near region is the scene's bounds grown on every side by this many times their
 /// largest extent, or by their largest coordinate magnitude if that is more. Within it, hits
@@ -51,8 +51,10 @@ const SLAB_WIDEN: f64 = 1.0 / (1u64 << 48) as f64;
 pub struct RayFrame {
     /// Bounds of every primitive.
     bounds: Aabb,
-    /// `bounds` grown by `margin`, rounded outwards: origins inside are traced as given.
-    near: Aabb,
+    /// `bounds` grown by `margin`, rounded outwards: origins inside are traced as given (its
+    /// corners kept as SIMD vectors for the test every query makes).
+    near_min: Vec3A,
+    near_max: Vec3A,
     /// How far outside the bounds (world units) a moved origin is aimed: half the margin.
     backoff: f64,
 }
@@ -123,7 +125,8 @@ impl RayFrame {
         if bounds.is_empty() || !(bounds.min.is_finite() && bounds.max.is_finite()) {
             return Self {
                 bounds: Aabb::EMPTY,
-                near: Aabb::EMPTY,
+                near_min: Aabb::EMPTY.min.into(),
+                near_max: Aabb::EMPTY.max.into(),
                 backoff: 0.0,
             };
         }
@@ -142,7 +145,8 @@ impl RayFrame {
         };
         Self {
             bounds,
-            near,
+            near_min: near.min.into(),
+            near_max: near.max.into(),
             // Landing a few extents before the bounds keeps `t` on the scene's scale.
             backoff: 0.5 * (around as f64).min(margin),
         }
@@ -153,20 +157,25 @@ impl RayFrame {
     pub fn unbounded() -> Self {
         Self {
             bounds: Aabb::EMPTY,
-            near: Aabb::new(Vec3::splat(f32::NEG_INFINITY), Vec3::splat(f32::INFINITY)),
+            near_min: Vec3A::NEG_INFINITY,
+            near_max: Vec3A::INFINITY,
             backoff: 0.0,
         }
     }
 
     /// The near region: origins inside it are traced as given.
     pub fn near_region(&self) -> Aabb {
-        self.near
+        Aabb {
+            min: self.near_min.into(),
+            max: self.near_max.into(),
+        }
     }
 
     /// True when a ray from `origin` is traced as given (false for NaN or infinite origins).
     #[inline(always)]
     pub fn holds(&self, origin: Vec3) -> bool {
-        (origin.cmpge(self.near.min) & origin.cmple(self.near.max)).all()
+        let o = Vec3A::from(origin);
+        (o.cmpge(self.near_min) & o.cmple(self.near_max)).all()
     }
 
     /// How `ray` is traced: as given when its origin lies in the near region, else moved.
@@ -239,7 +248,7 @@ impl RayFrame {
         // The local interval: the caller's, clipped to the near region's range, whose entry
         // lies a margin before any primitive's, so the clip loses no hit whatever the rounding.
         let from = origin.to_array().map(|x| Dd::from_f64(x as f64));
-        let Some((enter, exit)) = slab(&self.near, &from, dir) else {
+        let Some((enter, exit)) = slab(&self.near_region(), &from, dir) else {
             return Framing::Miss;
         };
         // A hit beyond f32::MAX has no f32 distance: it is no hit, for the nearest-hit and the

@@ -20,6 +20,19 @@ pub struct Traced {
 }
 
 impl Traced {
+    /// A hit found on `ray`, whose caller's `t` is `t`.
+    #[inline(always)]
+    fn on(ray: &Ray, hit: Hit, t: f32) -> Self {
+        Self {
+            hit,
+            ray: Ray {
+                t_max: hit.hit.t,
+                ..*ray
+            },
+            t,
+        }
+    }
+
     /// The hit with the caller's `t`: what brute force and every accelerator report.
     pub fn caller_hit(&self) -> Hit {
         Hit {
@@ -57,17 +70,27 @@ impl Accel {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> Option<Traced> {
+        if self.frame.holds(ray.origin) {
+            let hit = self.nearest_in_geometry(geometry, precision, ray, stats)?;
+            return Some(Traced::on(ray, hit, hit.hit.t));
+        }
+        self.trace_far(geometry, precision, ray, stats)
+    }
+
+    /// [`Accel::trace_geometry`] of a ray from outside the near region.
+    #[cold]
+    #[inline(never)]
+    fn trace_far(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+    ) -> Option<Traced> {
         let framing = self.frame.frame(ray);
         let local = framing.ray(ray)?;
         let hit = self.nearest_in_geometry(geometry, precision, local, stats)?;
-        Some(Traced {
-            hit,
-            ray: Ray {
-                t_max: hit.hit.t,
-                ..*local
-            },
-            t: framing.caller_t(hit.hit.t)?,
-        })
+        Some(Traced::on(local, hit, framing.caller_t(hit.hit.t)?))
     }
 
     #[inline(always)]
@@ -95,15 +118,41 @@ impl Accel {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> bool {
-        let framing = self.frame.frame(ray);
-        let Some(local) = framing.ray(ray) else {
-            return false;
-        };
-        if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
-            return wide.occluded(local, stats, PackedWatertight::new(packed, geometry, local));
+        if self.frame.holds(ray.origin) {
+            return self.any_in_geometry(geometry, precision, ray, stats);
         }
-        with_prim_test!(geometry, precision, local, |test| {
-            self.any(local, stats, |p, r| test(p, r).is_some())
+        self.occluded_far(geometry, precision, ray, stats)
+    }
+
+    /// [`Accel::occluded_geometry`] of a ray from outside the near region.
+    #[cold]
+    #[inline(never)]
+    fn occluded_far(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        let framing = self.frame.frame(ray);
+        framing
+            .ray(ray)
+            .is_some_and(|local| self.any_in_geometry(geometry, precision, local, stats))
+    }
+
+    #[inline(always)]
+    fn any_in_geometry(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
+            return wide.occluded(ray, stats, PackedWatertight::new(packed, geometry, ray));
+        }
+        with_prim_test!(geometry, precision, ray, |test| {
+            self.any(ray, stats, |p, r| test(p, r).is_some())
         })
     }
 
@@ -116,6 +165,9 @@ impl Accel {
     where
         F: FnMut(u32, &Ray) -> Option<PrimHit>,
     {
+        if self.frame.holds(ray.origin) {
+            return self.nearest(ray, stats, test);
+        }
         let framing = self.frame.frame(ray);
         let h = self.nearest(framing.ray(ray)?, stats, test)?;
         Some(Hit {
@@ -133,6 +185,9 @@ impl Accel {
     where
         F: FnMut(u32, &Ray) -> bool,
     {
+        if self.frame.holds(ray.origin) {
+            return self.any(ray, stats, test);
+        }
         let framing = self.frame.frame(ray);
         framing
             .ray(ray)
