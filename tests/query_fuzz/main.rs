@@ -1,7 +1,9 @@
 //! The `queries` fuzz target's checker (fuzz/src/queries/, included by path) in stable
 //! `cargo test`: its oracle on hand-made cases with known answers and against the hard-case
-//! suite's rational arithmetic ([`oracle_cases`]), the issue's examples ([`issue_cases`]), and
-//! a seeded run over pseudo-random inputs ([`seeded`]), so the checker runs without nightly.
+//! suite's rational arithmetic ([`oracle_cases`]), the oracle's classification of decoded
+//! scenes against plain big rationals ([`oracle_crosscheck`]), the issue's examples
+//! ([`issue_cases`]), and a seeded run over pseudo-random inputs ([`seeded`]), so the checker
+//! runs without nightly.
 
 #[path = "../../fuzz/src/queries/mod.rs"]
 mod queries;
@@ -11,6 +13,7 @@ mod exact;
 
 mod issue_cases;
 mod oracle_cases;
+mod oracle_crosscheck;
 mod seeded;
 
 use lumis::math::{Ray, Vec3};

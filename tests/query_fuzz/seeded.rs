@@ -15,18 +15,8 @@ const INPUTS: usize = 20_000;
 
 #[test]
 fn seeded_queries_agree_with_brute_force_and_the_oracle() {
-    let mut state = 0x5eed_u64;
-    let mut next = move || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    };
     let only = std::env::var("QUERY_FUZZ_ONLY").ok();
-    let inputs = (0..INPUTS).filter_map(|i| {
-        let len = 48 + (next() % 200) as usize;
-        let data: Vec<u8> = (0..len).map(|_| next() as u8).collect();
+    let inputs = inputs(INPUTS).enumerate().filter_map(|(i, data)| {
         let wanted = only.as_ref().is_none_or(|o| *o == i.to_string());
         wanted.then(|| (format!("input {i}"), data))
     });
@@ -38,6 +28,23 @@ fn seeded_queries_agree_with_brute_force_and_the_oracle() {
         .collect();
     println!("{INPUTS} inputs: {}", counts.join(", "));
     assert!(classes.is_empty(), "{}", report(&classes));
+}
+
+/// The first `n` seeded inputs (48 to 247 pseudo-random bytes each, splitmix64 from a fixed
+/// seed): input `i` is the same in every run and for every test that uses them.
+pub fn inputs(n: usize) -> impl Iterator<Item = Vec<u8>> {
+    let mut state = 0x5eed_u64;
+    let mut next = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    (0..n).map(move |_| {
+        let len = 48 + (next() % 200) as usize;
+        (0..len).map(|_| next() as u8).collect()
+    })
 }
 
 #[test]

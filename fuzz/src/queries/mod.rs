@@ -16,7 +16,7 @@
 //! also included by path from tests/ (the regression replay and a seeded run in stable
 //! `cargo test`), so it depends only on lumis, glam and the num crates.
 
-mod decode;
+pub mod decode;
 pub mod expect;
 pub mod fixed;
 pub mod oracle;
@@ -58,13 +58,19 @@ fn count(i: usize) {
 
 /// Runs the target on fuzz bytes: decode, then [`check`].
 pub fn run(data: &[u8]) {
+    if let Some((scene, rays)) = decode_input(data) {
+        check(&scene, &rays);
+    }
+}
+
+/// The scene and rays that fuzz bytes decode to ([`decode`]); `None` when the scene accepts
+/// no primitive. The rays include those outside the domain.
+pub fn decode_input(data: &[u8]) -> Option<(Scene, Vec<Ray>)> {
     let mut r = decode::Reader::new(data);
     let header = decode::scene(&mut r);
-    let Some(scene) = Scene::build(&header.prims) else {
-        return;
-    };
+    let scene = Scene::build(&header.prims)?;
     let rays = decode::rays(&mut r, &header, &scene.prims);
-    check(&scene, &rays);
+    Some((scene, rays))
 }
 
 /// Checks every ray against `scene` (see the module docs). Panics with a report on failure.
