@@ -234,7 +234,10 @@ impl RayFrame {
             let Some((enter, exit)) = slab(&self.bounds, &p, dir) else {
                 return Framing::Miss;
             };
-            let (lo, hi) = (local_t(shift, t_min), local_t(shift, t_max.min(f32::MAX)));
+            let (lo, hi) = (
+                local_t(shift, t_min.max(-f32::MAX)),
+                local_t(shift, t_max.min(f32::MAX)),
+            );
             if lo > exit || hi < enter {
                 return Framing::Miss;
             }
@@ -251,14 +254,18 @@ impl RayFrame {
         let Some((enter, exit)) = slab(&self.near_region(), &from, dir) else {
             return Framing::Miss;
         };
-        // A hit beyond f32::MAX has no f32 distance: it is no hit, for the nearest-hit and the
-        // any-hit query alike, so the cap is part of the interval (rounded inwards).
-        let capped = t_max > f32::MAX;
-        let (lo, hi) = (local_t(shift, t_min), local_t(shift, t_max.min(f32::MAX)));
-        let t_lo = if lo >= enter {
-            lo as f32
-        } else {
-            f32_down(enter)
+        // A hit beyond f32::MAX either way has no f32 distance: it is no hit, for the
+        // nearest-hit and the any-hit query alike, so the caps are part of the interval
+        // (rounded inwards).
+        let (capped_lo, capped) = (t_min < -f32::MAX, t_max > f32::MAX);
+        let (lo, hi) = (
+            local_t(shift, t_min.max(-f32::MAX)),
+            local_t(shift, t_max.min(f32::MAX)),
+        );
+        let t_lo = match (lo >= enter, capped_lo) {
+            (true, false) => lo as f32,
+            (true, true) => f32_up(lo),
+            (false, _) => f32_down(enter),
         };
         let t_hi = match (hi <= exit, capped) {
             (true, false) => hi as f32,

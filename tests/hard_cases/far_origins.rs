@@ -160,3 +160,37 @@ fn spheres_seen_from_1e6_to_3e38_are_entered_at_the_exact_root() {
         }
     }
 }
+
+#[test]
+fn hits_beyond_f32_max_either_way_along_a_far_ray_are_no_hits_for_every_query() {
+    // A far origin and a tiny direction put the surfaces at |t| ~ 1e41, behind or ahead: no
+    // f32 distance, so no hit, and no occlusion either (the survey of the query fuzz target
+    // found occluded = true with intersect = None when t_min = -inf: only the upper end of the
+    // moved ray's interval was capped at f32::MAX).
+    let mesh = scenes::icosphere(2, 0.0, &mut Rng::new(5));
+    let mut g = Geometry::new();
+    g.add_mesh(mesh);
+    g.add_sphere(Sphere {
+        center: Vec3::new(0.0, 0.0, 0.25),
+        radius: 0.5,
+    });
+    let everywhere = Everywhere::new(&g);
+    for origin_z in [1e6, 1e12, 3e38] {
+        for dir_z in [1e-35, -1e-35, 1.4e-42, -1.4e-42] {
+            let ray = Ray {
+                origin: Vec3::new(0.0, 0.0, origin_z),
+                dir: Vec3::new(0.0, 0.0, dir_z),
+                t_min: f32::NEG_INFINITY,
+                t_max: f32::INFINITY,
+            };
+            for precision in [Precision::Fast, Precision::Watertight, Precision::Double] {
+                let hit = everywhere.closest_with(precision, &ray);
+                assert_eq!(hit, None, "{precision:?} on {ray:?}");
+                assert!(
+                    !everywhere.occluded_with(precision, &ray),
+                    "{precision:?} on {ray:?}"
+                );
+            }
+        }
+    }
+}
