@@ -12,12 +12,11 @@ mod common;
 #[path = "support_io/mod.rs"]
 mod support;
 
-use std::collections::BTreeMap;
-use std::os::unix::fs::{FileTypeExt, symlink};
+use std::os::unix::fs::symlink;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
-use support::{lumis_in, mkfifo, temps_under, toml_scene};
+use support::{lumis_in, mkfifo, snapshot, temps_under, toml_scene};
 
 /// A Table I file name (`bench paper` measures only those) holding one sphere.
 const PAPER_SCENE: &str = "line.scn";
@@ -99,27 +98,6 @@ impl Bench {
         }
         args
     }
-}
-
-/// Everything under `dir`: each entry's kind, a link's target, a file's bytes.
-fn snapshot(dir: &Path) -> BTreeMap<PathBuf, String> {
-    let mut all = BTreeMap::new();
-    for e in std::fs::read_dir(dir).unwrap().flatten() {
-        let p = e.path();
-        let t = e.file_type().unwrap();
-        let what = if t.is_symlink() {
-            format!("-> {}", std::fs::read_link(&p).unwrap().display())
-        } else if t.is_fifo() {
-            "FIFO".to_string()
-        } else if t.is_dir() {
-            all.extend(snapshot(&p));
-            "directory".to_string()
-        } else {
-            format!("{:?}", std::fs::read(&p).unwrap())
-        };
-        all.insert(p, what);
-    }
-    all
 }
 
 /// Sets up a run of `out`'s bench, in a new directory, with its option naming `out.name`

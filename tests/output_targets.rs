@@ -13,11 +13,10 @@ mod common;
 #[path = "support_io/mod.rs"]
 mod support;
 
-use std::collections::BTreeMap;
-use std::os::unix::fs::{FileTypeExt, symlink};
+use std::os::unix::fs::symlink;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-use support::{lumis, lumis_in, mkfifo, rays_npy, temps_under, toml_scene};
+use support::{lumis, lumis_in, mkfifo, rays_npy, snapshot, temps_under, toml_scene};
 
 /// What sits at an output path before the run.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -169,27 +168,6 @@ fn tiles(dir: &Path) -> Vec<String> {
             dir.join(name).to_string_lossy().into_owned()
         })
         .collect()
-}
-
-/// Everything under `dir`: each entry's kind, a link's target, a file's bytes.
-fn snapshot(dir: &Path) -> BTreeMap<PathBuf, String> {
-    let mut all = BTreeMap::new();
-    for e in std::fs::read_dir(dir).unwrap().flatten() {
-        let p = e.path();
-        let t = e.file_type().unwrap();
-        let what = if t.is_symlink() {
-            format!("-> {}", std::fs::read_link(&p).unwrap().display())
-        } else if t.is_fifo() {
-            "FIFO".to_string()
-        } else if t.is_dir() {
-            all.extend(snapshot(&p));
-            "directory".to_string()
-        } else {
-            format!("{:?}", std::fs::read(&p).unwrap())
-        };
-        all.insert(p, what);
-    }
-    all
 }
 
 /// The first bytes of a file of the kind `name` ends in.

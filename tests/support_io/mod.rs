@@ -1,8 +1,11 @@
 //! Shared by `non_regular_files` and `output_safety`: running the binary with a time limit (a
-//! hang is a failure, not a stuck test run), small scene files, and listings of directories.
+//! hang is a failure, not a stuck test run), small scene files, and listings and snapshots of
+//! directories.
 
 #![allow(dead_code)]
 
+use std::collections::BTreeMap;
+use std::os::unix::fs::FileTypeExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus};
 use std::time::Duration;
@@ -110,4 +113,25 @@ pub fn rays_npy(xs: &[f32]) -> Vec<u8> {
         }
     }
     bytes
+}
+
+/// Everything under `dir`: each entry's kind, a link's target, a file's bytes.
+pub fn snapshot(dir: &Path) -> BTreeMap<PathBuf, String> {
+    let mut all = BTreeMap::new();
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let p = e.path();
+        let t = e.file_type().unwrap();
+        let what = if t.is_symlink() {
+            format!("-> {}", std::fs::read_link(&p).unwrap().display())
+        } else if t.is_fifo() {
+            "FIFO".to_string()
+        } else if t.is_dir() {
+            all.extend(snapshot(&p));
+            "directory".to_string()
+        } else {
+            format!("{:?}", std::fs::read(&p).unwrap())
+        };
+        all.insert(p, what);
+    }
+    all
 }
