@@ -30,7 +30,7 @@ pub use bvh::{Bvh, Node};
 pub use frame::{Framing, Moved, NEAR_FACTOR, RayFrame};
 pub use query::Traced;
 pub use segments::{PAPER_SEGMENT_MAX, SegmentParams};
-pub(crate) use slab::{meets_box, within_box};
+pub(crate) use slab::within_box;
 pub use wide::{LEAF_ALIGN, PADDING, Wide8, WideBvh, WideNode};
 
 use std::sync::Arc;

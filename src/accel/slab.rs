@@ -139,14 +139,6 @@ pub(crate) fn within_box(b: &Aabb, ray: &Ray, t: f32) -> bool {
         .is_some_and(|(near, far)| near <= t && t <= far))
 }
 
-/// True when the line of `ray` enters box `b` at all, as the traversals test it: a primitive
-/// hit only where this holds is found by every hierarchy whose boxes contain `b`.
-pub(crate) fn meets_box(b: &Aabb, ray: &Ray) -> bool {
-    with_slab!(ray, |slab| slab
-        .range(b, f32::NEG_INFINITY, f32::INFINITY)
-        .is_some())
-}
-
 /// Runs `$body` with `$slab` bound to the slab test `$ray` needs (a macro, because each arm
 /// instantiates the traversal for a different test type).
 macro_rules! with_slab {

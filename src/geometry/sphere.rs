@@ -8,7 +8,7 @@
 //! material = "glass"
 //! ```
 
-use super::twofloat::{Dd, diff_f32, two_prod};
+use super::twofloat::{Dd, diff_f32, two_prod, two_sum};
 use crate::math::{Aabb, Ray, Vec3, f32_down, f32_up};
 
 /// Below this fraction of `|d|^2 r^2` the double-double discriminant's sign is not certain.
@@ -25,25 +25,29 @@ pub struct Sphere {
 
 impl Sphere {
     /// Its bounding box, rounded outwards: `c +- r` in f32 would round a sphere smaller than
-    /// `ulp(c)` (r = 1e-3 at 1e5) to a box that misses part of it, or to a flat one. A radius
-    /// below even `ulp(c)` in f64 (r = 1e-34 at 38) leaves `c -+ r` equal to `c` in f64 too:
-    /// the box still reaches the next f32 on each side.
+    /// `ulp(c)` (r = 1e-3 at 1e5) to a box that misses part of it, or to a flat one. The sum is
+    /// taken exactly (`f64` two-sum), since `f64` rounds too when `c` and `r` are more than 2^53
+    /// apart: a radius below `ulp(c)` (r = 1e-34 at 38), or a centre below `ulp(r)` (c = 2^-139
+    /// beside r = 2^-69, which left the box's top at `r`, under the ball's, and a far ray's
+    /// hit outside its sphere's box).
     pub fn bounds(&self) -> Aabb {
         let r = self.radius as f64;
         let below = |x: f32| {
-            let lo = x as f64 - r;
-            if lo < x as f64 {
-                f32_down(lo)
+            let s = two_sum(x as f64, -r);
+            let down = f32_down(s.hi);
+            if down as f64 == s.hi && s.lo < 0.0 {
+                down.next_down()
             } else {
-                x.next_down()
+                down
             }
         };
         let above = |x: f32| {
-            let hi = x as f64 + r;
-            if hi > x as f64 {
-                f32_up(hi)
+            let s = two_sum(x as f64, r);
+            let up = f32_up(s.hi);
+            if up as f64 == s.hi && s.lo > 0.0 {
+                up.next_up()
             } else {
-                x.next_up()
+                up
             }
         };
         Aabb::new(self.center.map(below), self.center.map(above))
@@ -148,12 +152,11 @@ impl Sphere {
             return None;
         }
         // Within its rounding of 0 (a tangency closer than 2^-95 |d|^2 r^2) the sign is not
-        // known: the line may miss the ball, and its box, by a hair. A hit then counts only if
-        // the line meets the sphere's box as the traversals test it, so no hierarchy culls a
-        // hit brute force reports.
-        if disc.hi <= TANGENT_BAND * a.hi * r2.hi && !crate::accel::meets_box(&self.bounds(), ray) {
-            return None;
-        }
+        // known: the line may miss the ball, and its box, by a hair. A root then counts only
+        // where it lies inside the sphere's box as the traversals compute it for this ray, so no
+        // hierarchy culls a hit brute force reports (meeting the box somewhere is not enough: a
+        // far ray crosses a tiny box within one ulp of `t`, and the root may round past it).
+        let band = disc.hi <= TANGENT_BAND * a.hi * r2.hi;
         let k = sum3(&|i| f[i].square()).sub(r2);
         let sq = disc.sqrt();
         let q = if b.is_negative() {
@@ -162,10 +165,22 @@ impl Sphere {
             b.add(sq).neg()
         };
         // q == 0 only for an origin exactly at the tangent point: both roots are 0.
-        if q.hi == 0.0 {
-            return nearest_in_range(0.0, 0.0, ray);
+        let (t0, t1) = if q.hi == 0.0 {
+            (0.0, 0.0)
+        } else {
+            (q.div(a).to_f32(), k.div(q).to_f32())
+        };
+        if !band {
+            return nearest_in_range(t0, t1, ray);
         }
-        nearest_in_range(q.div(a).to_f32(), k.div(q).to_f32(), ray)
+        let bounds = self.bounds();
+        let inside = |t: f32| crate::accel::within_box(&bounds, ray, t);
+        match (inside(t0), inside(t1)) {
+            (true, true) => nearest_in_range(t0, t1, ray),
+            (true, false) => nearest_in_range(t0, t0, ray),
+            (false, true) => nearest_in_range(t1, t1, ray),
+            (false, false) => None,
+        }
     }
 
     /// The textbook quadratic `b^2 - 4ac` evaluated in `f32`, as many renderers ship it: fast,
@@ -260,6 +275,29 @@ mod tests {
         let tiny = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, f32::from_bits(1)));
         assert_eq!(s.intersect(&tiny), None);
         assert_eq!(s.intersect_fast(&tiny), None);
+    }
+
+    /// Every face of the box lies on or beyond the ball, in exact rational arithmetic, for
+    /// centres far below `ulp(r)` (2^-139 beside 2^-69: `c + r` rounds to `r` even in `f64`),
+    /// far above it, and of either sign.
+    #[test]
+    fn bounds_contain_the_ball_whatever_the_centre_and_radius_magnitudes() {
+        use num_rational::BigRational;
+        let q = |x: f32| BigRational::from_float(x).expect("finite");
+        let exceeds = |face: f32, c: f32, r: f32| q(face) - q(c) >= q(r);
+        let below = |face: f32, c: f32, r: f32| q(c) - q(face) >= q(r);
+        let values = [0.0, 1e-45, 2f32.powi(-139), 1e-30, 1.0, 1e5, 3e38];
+        for &c in &values {
+            for sign in [1.0, -1.0] {
+                for r in [2f32.powi(-69), 1e-40, 1e-3, 1.0, 1e18] {
+                    let c = sign * c;
+                    let s = Sphere { center: Vec3::splat(c), radius: r };
+                    let b = s.bounds();
+                    assert!(exceeds(b.max.x, c, r), "max of c = {c:e}, r = {r:e}");
+                    assert!(below(b.min.x, c, r), "min of c = {c:e}, r = {r:e}");
+                }
+            }
+        }
     }
 
     #[test]

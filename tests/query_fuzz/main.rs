@@ -15,6 +15,7 @@ mod issue_cases;
 mod oracle_cases;
 mod oracle_crosscheck;
 mod seeded;
+mod survey_cases;
 
 use lumis::math::{Ray, Vec3};
 use queries::{Prim, Scene};
