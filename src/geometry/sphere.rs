@@ -291,7 +291,10 @@ mod tests {
             for sign in [1.0, -1.0] {
                 for r in [2f32.powi(-69), 1e-40, 1e-3, 1.0, 1e18] {
                     let c = sign * c;
-                    let s = Sphere { center: Vec3::splat(c), radius: r };
+                    let s = Sphere {
+                        center: Vec3::splat(c),
+                        radius: r,
+                    };
                     let b = s.bounds();
                     assert!(exceeds(b.max.x, c, r), "max of c = {c:e}, r = {r:e}");
                     assert!(below(b.min.x, c, r), "min of c = {c:e}, r = {r:e}");
