@@ -66,14 +66,23 @@ fn dot2(x_hi: DVec3, x_lo: DVec3, y: DVec3) -> f64 {
 }
 
 /// The triangle's normal `(p1 - p0) x (p2 - p0)` as an unevaluated sum `hi + lo`, accurate to
-/// `f64` precision squared (the differences of `f32` coordinates are exact in `f64`).
+/// about `f64` precision squared of `|p1 - p0| |p2 - p0|`. The edges are taken exactly, as
+/// two-sums: a difference of `f32` coordinates is exact in `f64` only when their exponents lie
+/// within 29 of each other (1.4e14 - 1.8e-4 is not, and a needle 1e14 long and 1e-4 wide got a
+/// normal tilted enough to put its plane units away near its short edge).
 fn normal_dd(p0: DVec3, p1: DVec3, p2: DVec3) -> (DVec3, DVec3) {
-    let (a, b) = (p1 - p0, p2 - p0);
+    let edge =
+        |q: DVec3| -> [(f64, f64); 3] { std::array::from_fn(|i| two_sum(q[i], -p0[i]).parts()) };
+    let (a, b) = (edge(p1), edge(p2));
     let comp = |i: usize, j: usize| {
-        let (x, ex) = two_prod(a[i], b[j]).parts();
-        let (y, ey) = two_prod(a[j], b[i]).parts();
+        let ((ai, ai_lo), (aj, aj_lo), (bi, bi_lo), (bj, bj_lo)) = (a[i], a[j], b[i], b[j]);
+        let (x, ex) = two_prod(ai, bj).parts();
+        let (y, ey) = two_prod(aj, bi).parts();
+        // The low parts' products: each below eps |a| |b|, so their rounding is eps^2.
+        let small =
+            (ai * bj_lo + ai_lo * bj + ai_lo * bj_lo) - (aj * bi_lo + aj_lo * bi + aj_lo * bi_lo);
         let (s, es) = two_sum(x, -y).parts();
-        two_sum(s, es + ex - ey).parts()
+        two_sum(s, es + ex - ey + small).parts()
     };
     let (x, y, z) = (comp(1, 2), comp(2, 0), comp(0, 1));
     (DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1))
@@ -106,11 +115,23 @@ pub(crate) fn plane_distance(ray: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<
     if den == 0.0 {
         return None;
     }
-    // `a - o` is exact in f64 for f32 inputs of similar magnitude; two_sum keeps it exact always.
+    // Any vertex lies on the exact plane, but the normal's residual error tilts the computed
+    // one about the vertex chosen: take the one nearest the origin, so that a huge sliver seen
+    // from beside its short edge is measured there (its far end may be 1e14 away). `p - o` is
+    // exact in f64 for f32 inputs of similar magnitude; two_sum keeps it exact always.
+    let near = [a, b, c]
+        .into_iter()
+        .min_by(|p, q| {
+            (*p - o)
+                .abs()
+                .max_element()
+                .total_cmp(&(*q - o).abs().max_element())
+        })
+        .unwrap_or(a);
     let mut dir_hi = DVec3::ZERO;
     let mut dir_lo = DVec3::ZERO;
     for i in 0..3 {
-        let (h, l) = two_sum(a[i], -o[i]).parts();
+        let (h, l) = two_sum(near[i], -o[i]).parts();
         dir_hi[i] = h;
         dir_lo[i] = l;
     }

@@ -38,3 +38,25 @@ fn a_far_ray_grazing_a_tiny_sphere_at_the_end_of_its_interval() {
     };
     queries::check(&scene(&prims), &[ray]);
 }
+
+/// A needle 2.7e14 long and 3e-4 wide, seen from beside its short edge along a direction of
+/// 2.7e36 (its other components subnormal): the plane crossing is behind the origin
+/// (t = -5.4e-41), but the compensated plane distance computed the edges `p - p0` in `f64`,
+/// which rounded them (1.4e14 - 1.8e-4), tilted the normal and measured from the far vertex:
+/// a false hit at t = 1.5e37 (found by the recorded 36-minute run, at its end).
+#[test]
+fn a_huge_needle_seen_from_beside_its_short_edge() {
+    let (a, b, c) = (
+        v([0x5701_0000, 0x5757_5757, 0x57]),
+        v([0, 0, 0]),
+        v([0xb940_0000, 0, 0x3980_0000]),
+    );
+    let prims: Vec<Prim> = vec![tri(a, b, a), tri(a, c, b)];
+    let ray = Ray {
+        origin: Vec3::from(v([0xb930_0000, 0x3780_0000, 0x38c0_0000])),
+        dir: Vec3::from(v([0x2001, 4, 0xfc00_0400])),
+        t_min: 0.0,
+        t_max: f32::INFINITY,
+    };
+    queries::check(&scene(&prims), &[ray]);
+}
