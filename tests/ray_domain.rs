@@ -124,6 +124,18 @@ fn write_rays(path: &Path, rays: &[[f32; 8]]) {
     std::fs::write(path, out).unwrap();
 }
 
+/// Runs `lumis hits` in `dir` with `args` (after `hits`), which must succeed, and returns the
+/// rows of its `--out` file `out`.
+fn hits_rows(dir: &Path, args: &[&str], out: &str) -> Vec<Vec<f32>> {
+    let run = lumis(dir, &[&["hits"], args, &["--out", out]].concat());
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    read_rows(&dir.join(out))
+}
+
 fn read_rows(path: &Path) -> Vec<Vec<f32>> {
     let bytes = std::fs::read(path).unwrap();
     let npy = npyz::NpyFile::new(&bytes[..]).unwrap();
@@ -148,25 +160,12 @@ fn hits_answers_rays_from_any_finite_origin() {
     }
     write_rays(&d.join("rays.npy"), &rays);
     for accel in ["brute", "bsp", "bsmp", "sah"] {
-        let out = lumis(
+        let rows = hits_rows(
             d,
-            &[
-                "hits",
-                "scene.toml",
-                "--rays",
-                "rays.npy",
-                "--out",
-                "h.npy",
-                "--accel",
-                accel,
-            ],
+            &["scene.toml", "--rays", "rays.npy", "--accel", accel],
+            "h.npy",
         );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        for (i, row) in read_rows(&d.join("h.npy")).iter().enumerate() {
+        for (i, row) in rows.iter().enumerate() {
             let r = &rays[i];
             let o = (r[0] as f64).hypot(r[1] as f64).hypot(r[2] as f64);
             let exact = 1.0 - 1.0 / o;
@@ -182,24 +181,12 @@ fn hits_answers_rays_from_any_finite_origin() {
         }
     }
     // Any hit: the blocker's t on the caller's ray (front or back, 1 -+ 1/|o|).
-    let out = lumis(
+    let rows = hits_rows(
         d,
-        &[
-            "hits",
-            "scene.toml",
-            "--rays",
-            "rays.npy",
-            "--out",
-            "a.npy",
-            "--any-hit",
-        ],
+        &["scene.toml", "--rays", "rays.npy", "--any-hit"],
+        "a.npy",
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    for (i, row) in read_rows(&d.join("a.npy")).iter().enumerate() {
+    for (i, row) in rows.iter().enumerate() {
         assert!(
             (row[0] - 1.0).abs() <= 2e-6,
             "any hit: ray {i}: t {}",
@@ -229,18 +216,7 @@ fn hits_answers_rays_from_any_finite_origin() {
     write_rays(&d.join("far.npy"), &rays);
     for accel in ["brute", "bsp", "bsmp", "sah"] {
         let knot = knot.to_str().unwrap();
-        let out = lumis(
-            d,
-            &[
-                "hits", knot, "--rays", "far.npy", "--out", "k.npy", "--accel", accel,
-            ],
-        );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let rows = read_rows(&d.join("k.npy"));
+        let rows = hits_rows(d, &[knot, "--rays", "far.npy", "--accel", accel], "k.npy");
         assert_eq!(rows.len(), rays.len());
         for (i, row) in rows.iter().enumerate() {
             assert_eq!(row[0], f32::INFINITY, "{accel}: ray {i} hit {row:?}");

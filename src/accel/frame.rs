@@ -234,10 +234,7 @@ impl RayFrame {
             let Some((enter, exit)) = slab(&self.bounds, &p, dir) else {
                 return Framing::Miss;
             };
-            let (lo, hi) = (
-                local_t(shift, t_min.max(-f32::MAX)),
-                local_t(shift, t_max.min(f32::MAX)),
-            );
+            let (lo, hi) = local_interval(shift, t_min, t_max);
             if lo > exit || hi < enter {
                 return Framing::Miss;
             }
@@ -258,10 +255,7 @@ impl RayFrame {
         // nearest-hit and the any-hit query alike, so the caps are part of the interval
         // (rounded inwards).
         let (capped_lo, capped) = (t_min < -f32::MAX, t_max > f32::MAX);
-        let (lo, hi) = (
-            local_t(shift, t_min.max(-f32::MAX)),
-            local_t(shift, t_max.min(f32::MAX)),
-        );
+        let (lo, hi) = local_interval(shift, t_min, t_max);
         let t_lo = match (lo >= enter, capped_lo) {
             (true, false) => lo as f32,
             (true, true) => f32_up(lo),
@@ -287,6 +281,15 @@ impl RayFrame {
             t_max,
         })
     }
+}
+
+/// The caller's interval `(t_min, t_max]` capped at `-+f32::MAX` (no `f32` distance lies
+/// beyond), measured from a point `shift` along the ray.
+fn local_interval(shift: Dd, t_min: f32, t_max: f32) -> (f64, f64) {
+    (
+        local_t(shift, t_min.max(-f32::MAX)),
+        local_t(shift, t_max.min(f32::MAX)),
+    )
 }
 
 /// The caller's `t` measured from a point `shift` along the ray (infinities stay infinite).
