@@ -5,14 +5,14 @@
 //! Before anything is timed, the SAH answers are checked against brute force (tinybvh's rule:
 //! fast and checked go together).
 
-#[path = "../tests/common/mod.rs"]
+#[path = "../tests/it/common/mod.rs"]
 mod common;
 
 use common::{Rng, brute, closest, scenes};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use lumis::accel::{Accel, AccelKind, BuildOptions};
-use lumis::geometry::{Geometry, Sphere};
-use lumis::math::{Aabb, Ray, Vec3};
+use lumis_core::accel::{Accel, AccelKind, BuildOptions};
+use lumis_core::geometry::{Geometry, Sphere};
+use lumis_core::math::{Aabb, Ray, Vec3};
 use std::hint::black_box;
 use std::time::Duration;
 

@@ -6,14 +6,14 @@
 //! the binary tree in the builder's own cost model: a node visit costs
 //! 1, a leaf `ceil(n / 4)`, each weighted by its box's area relative to the root's.
 
-use lumis::accel::{Accel, AccelKind, BuildOptions, Bvh, LEAF_ALIGN};
+use lumis_core::accel::{Accel, AccelKind, BuildOptions, Bvh, LEAF_ALIGN};
 use std::time::Instant;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let path = args.get(1).expect("usage: build_stats SCENE [RUNS]");
     let runs: usize = args.get(2).map_or(9, |r| r.parse().expect("RUNS"));
-    let scene = lumis::formats::load(std::path::Path::new(path)).expect("scene");
+    let scene = lumis_io::formats::load(std::path::Path::new(path)).expect("scene");
     let geometry = scene.geometry();
     let opts = BuildOptions::default();
     let threads: usize =
@@ -85,7 +85,7 @@ fn fingerprint(b: &Bvh) -> u64 {
     h.finish()
 }
 
-fn area(b: &lumis::math::Aabb) -> f64 {
+fn area(b: &lumis_core::math::Aabb) -> f64 {
     let e = b.max - b.min;
     (e.x as f64 * e.y as f64 + e.y as f64 * e.z as f64 + e.z as f64 * e.x as f64).max(0.0)
 }
@@ -108,7 +108,7 @@ fn binary_cost(b: &Bvh) -> f64 {
 
 /// A hash of the wide nodes (their debug text) and the primitive order: equal for the same
 /// wide tree in the same layout.
-fn wide_fingerprint(w: &lumis::accel::Wide8) -> u64 {
+fn wide_fingerprint(w: &lumis_core::accel::Wide8) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     format!("{:?}", w.nodes()).hash(&mut h);

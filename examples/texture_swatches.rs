@@ -8,8 +8,8 @@
 //!
 //! `cargo run --example texture_swatches [out.png]` (default `/tmp/texture_swatches.png`).
 
-use lumis::math::{Vec2, Vec3};
-use lumis::texture::{NormalMap, Texture, perlin};
+use lumis_core::math::{Vec2, Vec3};
+use lumis_core::texture::{NormalMap, Texture, perlin};
 
 const SIZE: u32 = 128;
 const GAP: u32 = 4;

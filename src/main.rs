@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 mod cli;
 
-use cli::{bench, hits, info, merge, render};
+use cli::{hits, info, merge, render};
 
 /// lumis: an offline Whitted-style ray tracer.
 #[derive(Parser, Debug)]
@@ -35,9 +35,6 @@ enum Command {
     /// Assemble the tiles of a farm render (`lumis render --tile I/N`) into the image one
     /// render gives, bit for bit.
     Merge(merge::MergeArgs),
-    /// Measure performance.
-    #[command(subcommand)]
-    Bench(bench::BenchCommand),
 }
 
 fn main() {
@@ -47,7 +44,6 @@ fn main() {
         Some(Command::Info { file }) => info::run(file),
         Some(Command::Hits(args)) => hits::run(args),
         Some(Command::Merge(args)) => merge::run(args),
-        Some(Command::Bench(command)) => bench::run(command),
         None => render::run(&cli.render),
     };
     if let Err(e) = result {

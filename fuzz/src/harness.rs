@@ -25,8 +25,8 @@ pub fn run_in(dir: &Path, target: &str, data: &[u8]) {
         path
     };
     let load = |path: &Path| {
-        let options = lumis::formats::LoadOptions::default();
-        let _ = lumis::formats::load_with_overrides(path, &options, &[]);
+        let options = lumis_io::formats::LoadOptions::default();
+        let _ = lumis_io::formats::load_with_overrides(path, &options, &[]);
     };
     match target {
         "toml" => {
@@ -67,7 +67,7 @@ pub fn run_in(dir: &Path, target: &str, data: &[u8]) {
             load(&put("scene.scn", scn));
         }
         "npy" => {
-            let _ = lumis::rays::read_rays(&put("rays.npy", data));
+            let _ = lumis_io::rays::read_rays(&put("rays.npy", data));
         }
         // Ray queries on a decoded scene (fuzz/src/queries/): no files, `dir` unused.
         "queries" => super::queries::run(data),

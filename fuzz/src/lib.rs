@@ -15,7 +15,7 @@ fn scratch() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
         // lumis's quiet hook goes in first, so this one replaces it for every panic.
-        lumis::formats::guard::install();
+        lumis_io::files::guard::install();
         std::panic::set_hook(Box::new(|info| {
             eprintln!("{info}");
             // A panic inside lumis during a ray query: the scene and ray it happened on.

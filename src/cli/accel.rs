@@ -3,8 +3,8 @@
 use super::values::{AccelArg, TraversalArg};
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis::accel::{AccelKind, BuildOptions, PAPER_SEGMENT_MAX, SegmentParams, Traversal};
-use lumis::scene::{Scene, World};
+use lumis_core::accel::{AccelKind, BuildOptions, PAPER_SEGMENT_MAX, SegmentParams, Traversal};
+use lumis_core::scene::{Scene, World};
 
 /// `--accel`, `--traversal`, `--segment-init`, `--segment-max`, `--leaf-size`.
 #[derive(Args, Debug)]

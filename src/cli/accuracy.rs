@@ -4,8 +4,8 @@
 use super::values::{OffsetArg, PrecisionArg};
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis::geometry::{Offset, check_cutoff, check_epsilon};
-use lumis::scene::Settings;
+use lumis_core::geometry::{Offset, check_cutoff, check_epsilon};
+use lumis_core::scene::Settings;
 
 /// `--precision`, `--offset`, `--epsilon`.
 #[derive(Args, Debug, Default)]
@@ -45,7 +45,7 @@ impl AccuracyArgs {
         };
         let scene_epsilon = match st.offset {
             Offset::Epsilon(e) => e,
-            _ => lumis::geometry::DEFAULT_EPSILON,
+            _ => lumis_core::geometry::DEFAULT_EPSILON,
         };
         st.offset = match (self.offset, epsilon) {
             (Some(OffsetArg::ErrorBound), None) => Offset::ErrorBound,

@@ -10,8 +10,8 @@
 
 use anyhow::Result;
 use clap::Args;
-use lumis::output::{PlannedOutput, numbered_path};
-use lumis::scene::Frame;
+use lumis_core::scene::Frame;
+use lumis_io::output::{PlannedOutput, numbered_path};
 use std::path::PathBuf;
 
 /// `--frame`.
@@ -71,7 +71,7 @@ impl NumberedOutputs {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lumis::scene::FrameRate;
+    use lumis_core::scene::FrameRate;
     use std::path::Path;
 
     #[test]

@@ -1,14 +1,14 @@
 //! `lumis info FILE`: what a scene or model file holds, without rendering.
 
 use anyhow::Result;
-use lumis::effects::{Analysis, EffectMode, effects_text};
-use lumis::scene::Scene;
+use lumis_core::effects::{Analysis, EffectMode, effects_text};
+use lumis_core::scene::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// Loads `path` and prints its contents.
 pub fn run(path: &Path) -> Result<()> {
-    let scene = lumis::formats::load(path)?;
+    let scene = lumis_io::formats::load(path)?;
     print!("{}", describe(path, &scene));
     Ok(())
 }

@@ -3,7 +3,7 @@
 //! temporary files of outputs not yet renamed into place (a quit skips destructors). The
 //! process then exits with 130, the shell's code for "terminated by SIGINT".
 
-use lumis::render::CancelFlag;
+use lumis_core::render::CancelFlag;
 
 /// The exit code after an interrupt (128 + SIGINT).
 pub const EXIT_INTERRUPTED: i32 = 130;
@@ -23,7 +23,7 @@ pub struct Interrupted {
 pub fn on_ctrl_c(flag: CancelFlag) -> Result<(), ctrlc::Error> {
     ctrlc::set_handler(move || {
         if flag.is_raised() {
-            lumis::output::remove_staged_temps();
+            lumis_io::output::remove_staged_temps();
             std::process::exit(EXIT_INTERRUPTED);
         }
         flag.raise();

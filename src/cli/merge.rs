@@ -1,15 +1,14 @@
 //! `lumis merge TILE.exr... -o FULL.exr`: the tiles of a farm render (`lumis render --tile`)
-//! assembled into the image a single render writes (see `lumis::farm`).
+//! assembled into the image a single render writes (see `lumis_io::farm`).
 
 use super::values::{DisplayArg, TonemapArg};
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis::farm::merge::Merged;
-use lumis::film::{Film, PixelAov};
-use lumis::formats::{InputFile, file_id};
-use lumis::output::{
-    DisplayTransform, PlannedOutput, StagedOutputs, Tonemap, encode_png_with, prepare_outputs,
-};
+use lumis_core::film::{DisplayTransform, Tonemap};
+use lumis_core::film::{Film, PixelAov};
+use lumis_io::farm::merge::Merged;
+use lumis_io::files::{InputFile, file_id};
+use lumis_io::output::{PlannedOutput, StagedOutputs, encode_png_with, prepare_outputs};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -70,7 +69,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         });
     }
     prepare_outputs(&planned, &inputs)?;
-    let merged = lumis::farm::merge_tiles(&args.tiles)?;
+    let merged = lumis_io::farm::merge_tiles(&args.tiles)?;
     let mut staged = StagedOutputs::new();
     staged.stage_bytes(&args.output, &merged.bytes)?;
     if let Some(png) = &args.png {

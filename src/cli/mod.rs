@@ -1,11 +1,10 @@
 //! The `lumis` command line, one module per subcommand; `main.rs` only parses and dispatches.
 //!
-//! Everything here is binary-only: the library (`lumis::*`) knows nothing of clap, and the
+//! Everything here is binary-only: the libraries (`lumis_core`, `lumis_io`) know nothing of clap, and the
 //! flags' value sets are mirrored onto library enums in [`values`].
 
 pub mod accel;
 pub mod accuracy;
-pub mod bench;
 pub mod frame;
 pub mod hits;
 pub mod info;
@@ -13,6 +12,7 @@ pub mod interrupt;
 pub mod merge;
 pub mod overrides;
 pub mod passes;
+pub mod progress;
 pub mod render;
 pub mod stats;
 pub mod threads;

@@ -9,14 +9,13 @@
 use super::values::TonemapArg;
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis::camera::Camera;
-use lumis::film::Film;
-use lumis::formats::Override;
-use lumis::math::Vec3;
-use lumis::output::{
-    DisplayTransform, ExrMetadata, OutputError, Tonemap, encode_exr, encode_png_with,
-};
-use lumis::scene::{MAX_SPP, Settings};
+use lumis_core::camera::Camera;
+use lumis_core::film::Film;
+use lumis_core::film::{DisplayTransform, Tonemap};
+use lumis_core::math::Vec3;
+use lumis_core::scene::{MAX_SPP, Settings};
+use lumis_io::formats::Override;
+use lumis_io::output::{ExrMetadata, OutputError, encode_exr, encode_png_with};
 use std::path::Path;
 
 /// What `--quick` divides each image side by (pbrt-v4's `--quick` does the same).

@@ -3,8 +3,8 @@
 
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
-use lumis::cryptomatte::{DEFAULT_LEVELS, MAX_LEVELS};
-use lumis::output::{AovLayers, ChannelLayout};
+use lumis_core::cryptomatte::{DEFAULT_LEVELS, MAX_LEVELS};
+use lumis_io::output::{AovLayers, ChannelLayout};
 
 /// One value of `--aov`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

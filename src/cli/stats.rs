@@ -1,8 +1,8 @@
 //! The end-of-run summary: time per phase, rays by kind, throughput, and with `--stats` the
 //! effect decisions; also as JSON (`--stats-json`).
 
-use lumis::effects::{Analysis, effects_text};
-use lumis::integrator::RayCounts;
+use lumis_core::effects::{Analysis, effects_text};
+use lumis_core::integrator::RayCounts;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::time::Duration;

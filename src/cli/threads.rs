@@ -1,58 +1,16 @@
-//! `--threads`, one rule for every subcommand that takes it (render, hits, bench accuracy,
-//! bench effects): 0 means one worker per core, as in pbrt-v4, and a count far beyond the
-//! machine is capped with a warning rather than starting that many threads.
+//! `--threads`, one rule for every subcommand that takes it (render, hits): the core's
+//! [`worker_threads`], its warning printed on stderr.
 
-use std::num::NonZeroUsize;
-
-/// Worker threads per core at most: enough to oversubscribe on purpose (tests of
-/// determinism, hyper-threading experiments), far from the thousands that would exhaust
-/// memory for stacks.
-pub const MAX_THREADS_PER_CORE: usize = 4;
+use lumis_core::render::worker_threads;
 
 /// The worker count to start: `None` (unset or 0) is rayon's pool of one per core; a request
-/// above [`MAX_THREADS_PER_CORE`] x the cores is capped, with a warning on stderr unless
-/// `quiet`.
+/// far beyond the machine is capped, with a warning on stderr unless `quiet`.
 pub fn resolve(requested: Option<usize>, quiet: bool) -> Option<usize> {
-    let cores = std::thread::available_parallelism().map_or(1, NonZeroUsize::get);
-    let (count, warning) = cap(requested, cores);
+    let (count, warning) = worker_threads(requested);
     if let Some(w) = warning
         && !quiet
     {
         eprintln!("warning: {w}");
     }
     count
-}
-
-/// [`resolve`] for a machine of `cores`, with the warning to print.
-fn cap(requested: Option<usize>, cores: usize) -> (Option<usize>, Option<String>) {
-    let limit = MAX_THREADS_PER_CORE * cores;
-    match requested {
-        None | Some(0) => (None, None),
-        Some(n) if n > limit => (
-            Some(limit),
-            Some(format!(
-                "--threads {n}: capped at {limit} ({MAX_THREADS_PER_CORE} x {cores} cores)"
-            )),
-        ),
-        Some(n) => (Some(n), None),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn zero_is_every_core_and_absurd_counts_are_capped() {
-        assert_eq!(cap(None, 8), (None, None));
-        assert_eq!(cap(Some(0), 8), (None, None));
-        assert_eq!(cap(Some(3), 8), (Some(3), None));
-        assert_eq!(cap(Some(32), 8), (Some(32), None));
-        let (count, warning) = cap(Some(100_000), 8);
-        assert_eq!(count, Some(32));
-        assert_eq!(
-            warning.as_deref(),
-            Some("--threads 100000: capped at 32 (4 x 8 cores)")
-        );
-    }
 }

@@ -5,10 +5,10 @@
 //! each value, and the spellings clap derives from the variant names are the accepted values.
 
 use clap::ValueEnum;
-use lumis::accel::AccelKind;
-use lumis::geometry::Precision;
-use lumis::output::{DisplayTransform, Tonemap};
-use lumis::scene::UpAxis;
+use lumis_core::accel::AccelKind;
+use lumis_core::film::{DisplayTransform, Tonemap};
+use lumis_core::geometry::Precision;
+use lumis_core::scene::UpAxis;
 
 /// `--accel`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -4,8 +4,8 @@
 
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis::farm::TileSpec;
-use lumis::film::PixelWindow;
+use lumis_core::film::PixelWindow;
+use lumis_core::film::TileSpec;
 
 /// The window and depth flags of `lumis render`.
 #[derive(Args, Debug)]

@@ -43,7 +43,7 @@
 
 use super::scene::Prim;
 use glam::DVec3;
-use lumis::math::{Ray, Vec3};
+use lumis_core::math::{Ray, Vec3};
 
 /// The decoded primitives (before the limits are applied) and everything needed to decode
 /// the rays against the accepted ones.

@@ -15,7 +15,7 @@
 
 use super::oracle::{Class, Crossing, Frame, Root};
 use super::scene::Prim;
-use lumis::accel::Hit;
+use lumis_core::accel::Hit;
 use std::fmt::Write;
 
 /// How a crossing lies relative to the ray's range, given its tolerance.

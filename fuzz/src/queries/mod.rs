@@ -23,13 +23,13 @@ pub mod oracle;
 pub mod scene;
 
 use expect::Expect;
-use lumis::accel::{
+use lumis_core::accel::{
     Accel, AccelKind, BuildOptions, Hit, PAPER_SEGMENT_MAX, SegmentParams, Traversal,
     TraversalStats,
 };
-use lumis::geometry::{Geometry, Precision, WatertightRay};
-use lumis::math::{Ray, Vec3};
-use lumis::scene::domain;
+use lumis_core::geometry::{Geometry, Precision, WatertightRay};
+use lumis_core::math::{Ray, Vec3};
+use lumis_core::scene::domain;
 use oracle::Frame;
 pub use scene::{Prim, Scene};
 use std::cell::RefCell;
@@ -109,7 +109,7 @@ pub fn check(scene: &Scene, rays: &[Ray]) {
 }
 
 /// The domain of a ray query (issue 24), as stated, independently of
-/// `lumis::scene::domain::check_ray` (which must agree): a finite origin, a finite non-zero
+/// `lumis_core::scene::domain::check_ray` (which must agree): a finite origin, a finite non-zero
 /// direction, and `t_min`, `t_max` not NaN (infinite ones are fine).
 pub fn in_domain(r: &Ray) -> bool {
     r.origin.is_finite()
@@ -128,7 +128,7 @@ fn parse_rays_accepts(r: &Ray) -> bool {
     for x in row.into_iter().chain([r.t_min, r.t_max]) {
         header.extend(x.to_le_bytes());
     }
-    lumis::rays::parse_rays(&header, std::path::Path::new("ray.npy")).is_ok()
+    lumis_io::rays::parse_rays(&header, std::path::Path::new("ray.npy")).is_ok()
 }
 
 /// One built accelerator and how it is named in a report.
@@ -336,7 +336,7 @@ pub fn context() -> Option<String> {
 /// A self-contained failure report: what went wrong, then Rust that rebuilds the case.
 fn report(scene: &Scene, ray: &Ray, what: &str) -> String {
     format!(
-        "queries: {what}\n// use lumis::geometry::{{Geometry, Mesh, Sphere}}; use lumis::math::{{Ray, Vec3}};\n{}{}",
+        "queries: {what}\n// use lumis_core::geometry::{{Geometry, Mesh, Sphere}}; use lumis_core::math::{{Ray, Vec3}};\n{}{}",
         scene.literal(),
         scene::ray_lit(ray)
     )

@@ -18,7 +18,7 @@
 
 use super::fixed::{FRAC, IV, fix, fix_up, ratio, to_f64, ulp_f32};
 use super::scene::Prim;
-use lumis::math::{Aabb, Ray, Vec3};
+use lumis_core::math::{Aabb, Ray, Vec3};
 use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
 

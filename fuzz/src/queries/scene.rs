@@ -2,9 +2,9 @@
 //! them through the public API, and both written out as Rust a failure report can be pasted
 //! from.
 
-use lumis::geometry::{Geometry, Mesh, Sphere};
-use lumis::math::{Aabb, Ray, Vec3};
-use lumis::scene::limits::check_bounds;
+use lumis_core::geometry::{Geometry, Mesh, Sphere};
+use lumis_core::math::{Aabb, Ray, Vec3};
+use lumis_core::scene::limits::check_bounds;
 
 /// One primitive as decoded.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,8 +7,8 @@ use super::accel::AccelArgs;
 use super::accuracy::AccuracyArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use lumis::formats::record_inputs;
-use lumis::output::{PlannedOutput, StagedOutputs, prepare_outputs};
+use lumis_io::files::record_inputs;
+use lumis_io::output::{PlannedOutput, StagedOutputs, prepare_outputs};
 use records::{read_rays, spawn_rows, sphere_rows, stage_rows, trace_rays, triangle_rows};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -66,7 +66,7 @@ pub fn run(args: &HitsArgs) -> Result<()> {
     let outputs = planned_outputs(args)?;
     let start = Instant::now();
     // Every file read (the scene, what it references, the rays): no output may be one of them.
-    let (scene, mut inputs) = record_inputs(|| lumis::formats::load(&args.scene));
+    let (scene, mut inputs) = record_inputs(|| lumis_io::formats::load(&args.scene));
     let mut scene = scene?;
     args.accuracy.apply(scene.settings_mut())?;
     scene

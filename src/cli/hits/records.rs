@@ -25,12 +25,12 @@ use std::path::Path;
 use npyz::WriterBuilder;
 use rayon::prelude::*;
 
-use lumis::accel::{Hit, TraversalStats};
-use lumis::geometry::Primitive;
-use lumis::math::{Ray, Vec3};
-use lumis::output::{OutputError, StagedOutputs};
-pub use lumis::rays::{RAY_COLUMNS, read_rays};
-use lumis::scene::{Scene, World};
+use lumis_core::accel::{Hit, TraversalStats};
+use lumis_core::geometry::Primitive;
+use lumis_core::math::{Ray, Vec3};
+use lumis_core::scene::{Scene, World};
+use lumis_io::output::{OutputError, StagedOutputs};
+pub use lumis_io::rays::{RAY_COLUMNS, read_rays};
 
 /// Floats per output hit row.
 pub const HIT_COLUMNS: usize = 9;

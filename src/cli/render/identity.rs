@@ -7,9 +7,9 @@
 
 use super::RenderArgs;
 use anyhow::{Context, Result};
-use lumis::formats::InputFile;
-use lumis::output::RenderIdentity;
-use lumis::scene::Settings;
+use lumis_core::scene::Settings;
+use lumis_io::files::InputFile;
+use lumis_io::output::RenderIdentity;
 use std::fmt::Write as _;
 
 impl RenderArgs {
@@ -21,7 +21,7 @@ impl RenderArgs {
         settings: &Settings,
         exposure: Option<f32>,
     ) -> Result<RenderIdentity> {
-        let scene_hash = lumis::farm::scene_hash(inputs, &self.load_options())
+        let scene_hash = lumis_io::farm::scene_hash(inputs, &self.load_options())
             .context("hashing the scene's files for the EXR header")?;
         Ok(RenderIdentity {
             scene_hash,

@@ -14,12 +14,11 @@ use super::values::{DisplayArg, UpArg};
 use super::window::WindowArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use lumis::formats::record_inputs;
-use lumis::output::{
-    DisplayTransform, ExrMetadata, PlannedOutput, StagedOutputs, TileHeader, prepare_outputs,
-};
-use lumis::render::{CancelFlag, RenderOptions, render};
-use lumis::scene::UpAxis;
+use lumis_core::film::DisplayTransform;
+use lumis_core::render::{CancelFlag, RenderOptions, render};
+use lumis_core::scene::UpAxis;
+use lumis_io::files::record_inputs;
+use lumis_io::output::{ExrMetadata, PlannedOutput, StagedOutputs, TileHeader, prepare_outputs};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -110,7 +109,7 @@ pub struct RenderArgs {
     /// `auto`: trace only what can change the image; `all`: every effect, from every hit to
     /// every light, no cutoff (the reference `auto` is bit-identical to at cutoff 0).
     #[arg(long, value_name = "MODE", default_value = "auto")]
-    effects: lumis::effects::EffectMode,
+    effects: lumis_core::effects::EffectMode,
     #[command(flatten)]
     overrides: OverrideArgs,
     #[command(flatten)]
@@ -124,9 +123,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let defines = args.overrides.defines();
     // Every file the load reads, so that no output can overwrite one of them.
     let (scene, inputs) = record_inputs(|| match &args.scene {
-        Some(path) => lumis::formats::load_with_overrides(
+        Some(path) => lumis_io::formats::load_with_overrides(
             path,
-            &lumis::formats::LoadOptions {
+            &lumis_io::formats::LoadOptions {
                 scene: args.gltf_scene,
                 camera: args.camera,
                 up: args.up.map(UpAxis::from).unwrap_or_default(),
@@ -143,7 +142,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         {
             bail!("--gltf-scene, --camera, --up and --auto-camera need a model file")
         }
-        None => lumis::formats::default_scene_at(defines, args.frame.frame())
+        None => lumis_io::formats::default_scene_at(defines, args.frame.frame())
             .context("loading the built-in default scene"),
     });
     let mut scene = scene?;
@@ -165,7 +164,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     st.validate()
         .context("the render settings after the command-line overrides")?;
     if let Some(ev) = args.exposure
-        && (ev.is_nan() || ev.abs() > lumis::scene::limits::MAX_EXPOSURE)
+        && (ev.is_nan() || ev.abs() > lumis_core::scene::limits::MAX_EXPOSURE)
     {
         bail!("--exposure {ev}: expected a finite number of stops within +-64");
     }
@@ -207,7 +206,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let opts = RenderOptions {
         seed: args.seed,
         threads: super::threads::resolve(args.threads, args.quiet),
-        progress: show_progress,
+        progress: super::progress::bar(show_progress),
         // Only EXR has depth, normal and id layers: a PNG-only render traces no rays for them.
         aov_layers: outputs.iter().any(|p| has_extension(p, "exr")),
         effects: args.effects,
@@ -231,20 +230,20 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // A tile's exposure is the merge's to compute, over the whole image.
         None if tile.is_some() => 0.0,
         None => {
-            let ev = lumis::output::auto_exposure(&rendered.film);
+            let ev = lumis_core::film::auto_exposure(&rendered.film);
             if !args.quiet {
                 eprintln!("auto exposure: {ev:+.2} EV");
             }
             ev
         }
     };
-    // A tile is written before exposure; the merge applies it (see lumis::farm).
+    // A tile is written before exposure; the merge applies it (see lumis_io::farm).
     if tile.is_none() {
         rendered.film.expose(exposure);
     }
     // The last line of defence of the NaN guarantee: nothing is written from a film with a
     // non-finite sample (the loaders' limits should make this unreachable).
-    lumis::output::check_finite(&rendered.film)?;
+    lumis_core::film::check_finite(&rendered.film)?;
 
     let t = Instant::now();
     let meta = ExrMetadata {

@@ -1,0 +1,108 @@
+//! Writing a finished [`Film`] to disk: HDR OpenEXR with AOV layers, or a display-referred PNG.
+//!
+//! This is the only module that touches image files. Every writer encodes into a temporary file
+//! in the target's directory and renames it over the target only once encoding has succeeded
+//! (see `staged.rs`), so a failed or interrupted write never leaves a truncated image behind and
+//! never destroys an existing one. A run with several outputs stages them all in one
+//! [`StagedOutputs`] and renames them only when every one was written, after checking them
+//! up front with [`prepare_outputs`] (directories exist and are writable, no output is an input
+//! of the run or another output, none is a FIFO, device or directory). A symlink to a regular
+//! file is written through (`target.rs`).
+//!
+//! ```toml
+//! [output]
+//! path = "render.exr"   # .exr or .png, chosen by extension (case-insensitive)
+//! float_rgba = false    # EXR only: f32 instead of half for R, G, B, A
+//! exposure = 0.0        # stops: linear colour x 2^exposure, in the EXR and the PNG
+//! display = "srgb"      # PNG only: "srgb" transfer curve or "clamp" (value x 255)
+//! ```
+
+mod aov_layers;
+mod cryptomatte;
+mod error;
+mod exr;
+mod frame;
+mod header_order;
+mod layout;
+mod png;
+mod preflight;
+mod provenance;
+mod staged;
+mod target;
+mod temps;
+
+pub use self::error::OutputError;
+pub use self::preflight::{PlannedOutput, prepare_outputs};
+// Public for the binary's other result files (`lumis hits` writes .npy arrays through them).
+pub use self::staged::{StagedOutputs, TempWriter, write_atomically};
+pub use self::temps::{STALE_AFTER, remove_staged_temps, remove_stale_temps};
+
+use std::path::Path;
+
+use lumis_core::camera::Camera;
+use lumis_core::film::{DisplayTransform, Film};
+
+pub use self::aov_layers::AovLayers;
+pub(crate) use self::exr::half_rgba;
+pub use self::exr::{
+    ATTR_EXPOSURE, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
+    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
+    encode_exr, imath_m44f, write_exr,
+};
+pub use self::frame::{ATTR_FRAME, numbered_path};
+pub(crate) use self::header_order::sorted_header;
+pub use self::layout::ChannelLayout;
+pub use self::png::{encode_png_with, write_png, write_png_with};
+pub use self::provenance::{
+    ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_DISPLAY,
+    ATTR_TILE_EXPOSURE, ATTR_TILE_RGBA, RenderIdentity, TILE_ATTR_PREFIX, TILE_EXPOSURE_AUTO,
+    TileHeader,
+};
+
+/// Writes `text` to `path` atomically (a report beside the images, e.g. `--stats-json`).
+pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
+    use std::io::Write as _;
+    write_atomically(path, |w| {
+        w.write_all(text.as_bytes())
+            .map_err(|source| OutputError::Write {
+                path: path.to_path_buf(),
+                source,
+            })
+    })
+}
+
+/// Writes `film` as OpenEXR (`.exr`) or PNG (`.png`) depending on the extension of `path`,
+/// compared case-insensitively. `meta` and `camera` are used only for EXR, `exposure_stops`
+/// and `display` only for PNG (the EXR stays linear).
+pub fn write_by_extension(
+    path: &Path,
+    film: &Film,
+    camera: &Camera,
+    meta: &ExrMetadata,
+    exposure_stops: f32,
+    display: DisplayTransform,
+) -> Result<(), OutputError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("exr") => write_exr(path, film, camera, meta),
+        Some("png") => write_png(path, film, exposure_stops, display),
+        _ => Err(OutputError::UnsupportedExtension {
+            path: path.to_path_buf(),
+        }),
+    }
+}
+
+/// Rejects films with no pixels before any file is created, so nothing on disk changes.
+fn check_not_empty(path: &Path, film: &Film) -> Result<(), OutputError> {
+    if film.width() == 0 || film.height() == 0 {
+        return Err(OutputError::EmptyFilm {
+            path: path.to_path_buf(),
+            width: film.width(),
+            height: film.height(),
+        });
+    }
+    Ok(())
+}

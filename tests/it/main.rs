@@ -1,0 +1,47 @@
+//! The integration tests of the `lumis` command and of the libraries through it, as one test
+//! binary (one link instead of ~35): a module per former test file, the shared helpers in
+//! [`common`]. `cargo test NAME` still selects tests by name, e.g. `cargo test hard_cases::`.
+
+mod common;
+/// The `queries` fuzz target's checker, shared by `fuzz_regressions` and `query_fuzz`.
+#[path = "../../fuzz/src/queries/mod.rs"]
+mod queries;
+mod support_io;
+
+mod accel_agreement;
+mod accuracy_options;
+mod assets_render;
+mod bad_input;
+mod bad_input_deps;
+mod cli;
+mod cli_exr;
+mod cli_flags;
+mod cli_models;
+mod cryptomatte;
+mod effects;
+mod exr_compositing;
+mod exr_passes;
+mod exr_roundtrip;
+mod farm;
+mod frames;
+mod fuzz_regressions;
+mod gltf_bad_input;
+mod gltf_loading;
+mod gltf_materials;
+mod gltf_views;
+mod hard_cases;
+mod hits;
+mod memory_bombs;
+mod non_regular_files;
+mod obj_mtl;
+mod output_safety;
+mod output_targets;
+mod paper_scenes;
+mod png_output;
+mod query_fuzz;
+mod ray_domain;
+mod render_known_answers;
+mod scene_loading;
+mod scn_loading;
+mod toml_models;
+mod watertight;
