@@ -8,6 +8,7 @@
 //! display transform, finite check) prepare it for whoever writes it.
 
 pub mod accel;
+pub mod batch;
 pub mod camera;
 pub mod cryptomatte;
 pub mod effects;

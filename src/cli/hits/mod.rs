@@ -7,6 +7,7 @@ use super::accel::AccelArgs;
 use super::accuracy::AccuracyArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use lumis_core::batch::HitRecord;
 use lumis_io::files::record_inputs;
 use lumis_io::output::{PlannedOutput, StagedOutputs, prepare_outputs};
 use records::{read_rays, spawn_rows, sphere_rows, stage_rows, trace_rays, triangle_rows};
@@ -87,7 +88,7 @@ pub fn run(args: &HitsArgs) -> Result<()> {
         let mut trace_s = Vec::with_capacity(args.repeat as usize);
         for _ in 0..args.repeat {
             let start = Instant::now();
-            hits = trace_rays(&world, &rays, args.any_hit);
+            hits = trace_rays(&world, &rays[..], args.any_hit);
             trace_s.push(start.elapsed().as_secs_f64());
         }
         (world, build_s, hits, trace_s)
@@ -103,9 +104,10 @@ pub fn run(args: &HitsArgs) -> Result<()> {
     // Every result goes to a temporary file first; they replace existing files only once all
     // were written.
     let mut staged = StagedOutputs::new();
-    stage_rows(&mut staged, &args.out, &hits)?;
+    let rows: Vec<_> = hits.iter().map(HitRecord::row).collect();
+    stage_rows(&mut staged, &args.out, &rows)?;
     if let Some(path) = &args.spawn_out {
-        stage_rows(&mut staged, path, &spawn_rows(&world, &rays))?;
+        stage_rows(&mut staged, path, &spawn_rows(&world, &rays[..]))?;
     }
     if let Some(path) = &args.triangles_out {
         stage_rows(&mut staged, path, &triangle_rows(world.scene()))?;

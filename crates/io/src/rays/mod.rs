@@ -10,14 +10,8 @@ mod npy;
 
 use std::path::{Path, PathBuf};
 
-use lumis_core::math::Vec3;
-use lumis_core::scene::domain::check_ray;
-
-/// Floats per input ray row.
-pub const RAY_COLUMNS: usize = 8;
-
-/// One ray: origin xyz, direction xyz, `t_min`, `t_max`.
-pub type RayRow = [f32; RAY_COLUMNS];
+use lumis_core::batch::check_rays;
+pub use lumis_core::batch::{RAY_COLUMNS, RayRow};
 
 /// Why a ray file could not be read. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
@@ -61,8 +55,9 @@ pub fn read_rays(path: &Path) -> Result<Vec<RayRow>, RaysError> {
 }
 
 /// The rays of `.npy` bytes: float32 (either byte order), C order, shape `(N, 8)`, exactly
-/// `N * 32` data bytes; every ray inside the query domain ([`check_ray`]: a finite origin, a
-/// finite non-zero direction, `t_min`, `t_max` not NaN). `path` names the file in errors.
+/// `N * 32` data bytes; every ray inside the query domain ([`check_rays`]: a finite origin, a
+/// finite non-zero direction, `t_min`, `t_max` not NaN; the first bad row is named). `path`
+/// names the file in errors.
 pub fn parse_rays(bytes: &[u8], path: &Path) -> Result<Vec<RayRow>, RaysError> {
     let format = |message: String| RaysError::Format {
         path: path.to_path_buf(),
@@ -122,13 +117,10 @@ pub fn parse_rays(bytes: &[u8], path: &Path) -> Result<Vec<RayRow>, RaysError> {
             })
         })
         .collect();
-    for (row, r) in rays.iter().enumerate() {
-        let v = |i: usize| Vec3::new(r[i], r[i + 1], r[i + 2]);
-        check_ray(v(0), v(3), r[6], r[7]).map_err(|e| RaysError::BadRay {
-            path: path.to_path_buf(),
-            row,
-            message: e.to_string(),
-        })?;
-    }
+    check_rays(&rays[..]).map_err(|(row, e)| RaysError::BadRay {
+        path: path.to_path_buf(),
+        row,
+        message: e.to_string(),
+    })?;
     Ok(rays)
 }

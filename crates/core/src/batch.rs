@@ -1,0 +1,290 @@
+//! Batch ray queries: many rays through one [`World`] in parallel, one answer per ray in input
+//! order. `lumis hits` (rays from an `.npy` file) and the Python package (rays read in place
+//! from numpy arrays) both call [`trace_rays`], so they give the same answers bit for bit.
+//!
+//! Rays are world space, `origin + t dir` with `t` in `(t_min, t_max]`, inside the query domain
+//! ([`crate::scene::domain`]; check them with [`check_rays`]). The answers:
+//! - [`HitRecord`]: `t`, primitive id, object id, barycentric `u`, `v` (weights of the
+//!   triangle's second and third vertex; 0 for spheres), unit geometric normal (outward for
+//!   spheres, by winding for triangles), primitive kind. Its [`HitRecord::row`] is the
+//!   `(N, 9)` float32 row `lumis hits` writes: a miss is `t = +inf`, ids and kind `-1`, the
+//!   rest 0. Any-hit queries report the `t` of whichever blocker the traversal met first (not
+//!   necessarily the nearest; `+inf` when unoccluded), no ids, no kind.
+//! - spawn origins `(N, 6)`, row `i` for ray `i`: where a secondary ray leaving the hit would
+//!   start under the scene's `offset` rule, on the side the ray came from (xyz, what shadow and
+//!   reflection rays use) and on the far side (xyz, what refraction uses); `+inf` for misses.
+//! - triangles `(M, 10)`: primitive id, then the three world-space vertices.
+//! - spheres `(K, 5)`: primitive id, world-space centre xyz, radius.
+//!
+//! The float rows store ids as float32, exact up to 2^24; [`HitRecord`] holds them exactly.
+
+use rayon::prelude::*;
+
+use crate::accel::{Hit, TraversalStats};
+use crate::geometry::Primitive;
+use crate::math::{Ray, Vec3};
+use crate::scene::domain::{RayError, check_ray};
+use crate::scene::{Scene, World};
+
+/// Floats per ray row: origin xyz, direction xyz, `t_min`, `t_max`.
+pub const RAY_COLUMNS: usize = 8;
+/// Floats per hit row.
+pub const HIT_COLUMNS: usize = 9;
+/// Floats per triangle row.
+pub const TRIANGLE_COLUMNS: usize = 10;
+/// Floats per sphere row.
+pub const SPHERE_COLUMNS: usize = 5;
+/// Floats per spawn row.
+pub const SPAWN_COLUMNS: usize = 6;
+
+/// One ray as a row: origin xyz, direction xyz, `t_min`, `t_max`.
+pub type RayRow = [f32; RAY_COLUMNS];
+/// One hit as `lumis hits` writes it (see the module docs).
+pub type HitRow = [f32; HIT_COLUMNS];
+
+/// Rays per parallel work item: large enough to amortise scheduling, small enough to balance.
+const CHUNK: usize = 1024;
+
+/// Rays addressed by index, read where they are (rows of a file, columns of numpy arrays).
+pub trait RayBatch: Sync {
+    /// How many rays.
+    fn len(&self) -> usize;
+    /// Whether there are none.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Ray `i`, `i < len()`.
+    fn ray(&self, i: usize) -> Ray;
+}
+
+impl RayBatch for [RayRow] {
+    fn len(&self) -> usize {
+        <[RayRow]>::len(self)
+    }
+
+    fn ray(&self, i: usize) -> Ray {
+        let r = &self[i];
+        Ray {
+            origin: Vec3::new(r[0], r[1], r[2]),
+            dir: Vec3::new(r[3], r[4], r[5]),
+            t_min: r[6],
+            t_max: r[7],
+        }
+    }
+}
+
+/// The first ray of `rays` outside the query domain, with its index and why.
+pub fn check_rays<B: RayBatch + ?Sized>(rays: &B) -> Result<(), (usize, RayError)> {
+    (0..rays.len()).try_for_each(|i| {
+        let r = rays.ray(i);
+        check_ray(r.origin, r.dir, r.t_min, r.t_max).map_err(|e| (i, e))
+    })
+}
+
+/// Which primitive a hit is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrimKind {
+    /// An analytic sphere (kind 0 in the rows).
+    Sphere = 0,
+    /// A mesh triangle (kind 1 in the rows).
+    Triangle = 1,
+}
+
+impl From<Primitive> for PrimKind {
+    fn from(p: Primitive) -> Self {
+        match p {
+            Primitive::Sphere { .. } => Self::Sphere,
+            Primitive::Triangle { .. } => Self::Triangle,
+        }
+    }
+}
+
+/// One ray's answer (see the module docs): the nearest hit, an any-hit blocker's distance, or
+/// a miss.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HitRecord {
+    /// Distance along the caller's ray; `+inf` for a miss.
+    pub t: f32,
+    /// Primitive id; `None` for misses and any-hit answers.
+    pub prim: Option<u32>,
+    /// Object id (the scene's object list); `None` for misses and any-hit answers.
+    pub object: Option<u32>,
+    /// Barycentric weight of the triangle's second vertex (0 for spheres and misses).
+    pub u: f32,
+    /// Barycentric weight of the triangle's third vertex (0 for spheres and misses).
+    pub v: f32,
+    /// Unit geometric normal: outward for spheres, by winding for triangles; 0 for misses.
+    pub normal: Vec3,
+    /// The primitive's kind; `None` for misses and any-hit answers.
+    pub kind: Option<PrimKind>,
+}
+
+impl HitRecord {
+    /// No hit.
+    pub const MISS: Self = Self {
+        t: f32::INFINITY,
+        prim: None,
+        object: None,
+        u: 0.0,
+        v: 0.0,
+        normal: Vec3::ZERO,
+        kind: None,
+    };
+
+    /// The `lumis hits` row: `t`, prim id, object id, `u`, `v`, normal xyz, kind; `-1` for
+    /// what is absent (ids as float32, exact up to 2^24).
+    pub fn row(&self) -> HitRow {
+        let id = |i: Option<u32>| i.map_or(-1.0, |i| i as f32);
+        let n = self.normal;
+        [
+            self.t,
+            id(self.prim),
+            id(self.object),
+            self.u,
+            self.v,
+            n.x,
+            n.y,
+            n.z,
+            self.kind.map_or(-1.0, |k| k as u8 as f32),
+        ]
+    }
+}
+
+/// Traces every ray through `world` in parallel on the current rayon pool; record `i` answers
+/// ray `i`. With `any_hit`, only whether something blocks the ray, as the distance of the
+/// first blocker met. Rays must be inside the domain ([`check_rays`]). The result does not
+/// depend on the thread count. Primitives are intersected with the scene's `precision`.
+pub fn trace_rays<B: RayBatch + ?Sized>(world: &World, rays: &B, any_hit: bool) -> Vec<HitRecord> {
+    trace_all(rays, |ray, stats| record(world, ray, any_hit, stats))
+}
+
+/// For every ray, the spawn origins of its hit (see the module docs); rays that miss get `inf`.
+pub fn spawn_rows<B: RayBatch + ?Sized>(world: &World, rays: &B) -> Vec<[f32; SPAWN_COLUMNS]> {
+    let offset = world.scene().settings().offset;
+    trace_all(rays, |ray, stats| match world.intersect(ray, stats) {
+        None => [f32::INFINITY; SPAWN_COLUMNS],
+        Some(hit) => {
+            let back = hit.surface.spawn_origin(-ray.dir, offset);
+            let through = hit.surface.spawn_origin(ray.dir, offset);
+            [back.x, back.y, back.z, through.x, through.y, through.z]
+        }
+    })
+}
+
+/// Runs `f` over every ray in parallel chunks, keeping the input order.
+fn trace_all<B: RayBatch + ?Sized, T: Send>(
+    rays: &B,
+    f: impl Fn(&Ray, &mut TraversalStats) -> T + Sync,
+) -> Vec<T> {
+    let n = rays.len();
+    let chunks: Vec<Vec<T>> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut stats = TraversalStats::default();
+            (c * CHUNK..n.min((c + 1) * CHUNK))
+                .map(|i| f(&rays.ray(i), &mut stats))
+                .collect()
+        })
+        .collect();
+    chunks.into_iter().flatten().collect()
+}
+
+/// The record of one ray: the scene's own nearest-hit query, or for `any_hit` only the
+/// distance of the blocker the any-hit traversal stopped at.
+fn record(world: &World, ray: &Ray, any_hit: bool, stats: &mut TraversalStats) -> HitRecord {
+    if any_hit {
+        return match world.first_blocker(ray, stats) {
+            Some(t) => HitRecord {
+                t,
+                ..HitRecord::MISS
+            },
+            None => HitRecord::MISS,
+        };
+    }
+    let scene = world.scene();
+    let g = scene.geometry();
+    let Some(traced) = world.trace(ray, stats) else {
+        return HitRecord::MISS;
+    };
+    // The normal on the ray the hit was found on (a far ray's was moved near the scene).
+    let Hit { prim, hit } = traced.hit;
+    HitRecord {
+        t: traced.t,
+        prim: Some(prim),
+        object: Some(scene.object_of(prim)),
+        u: hit.u,
+        v: hit.v,
+        normal: g.geometric_normal(prim, &traced.ray, &hit),
+        kind: Some(g.prims()[prim as usize].into()),
+    }
+}
+
+/// Every triangle primitive of `scene` as `[prim id, v0 xyz, v1 xyz, v2 xyz]` in world space,
+/// in primitive order; spheres are skipped.
+pub fn triangle_rows(scene: &Scene) -> Vec<[f32; TRIANGLE_COLUMNS]> {
+    let g = scene.geometry();
+    g.prims()
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| match *p {
+            Primitive::Sphere { .. } => None,
+            Primitive::Triangle { mesh, tri } => {
+                let [a, b, c] = g.meshes()[mesh as usize].corners(tri);
+                Some([i as f32, a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z])
+            }
+        })
+        .collect()
+}
+
+/// Every sphere primitive of `scene` as `[prim id, centre xyz, radius]` in world space, in
+/// primitive order; triangles are skipped.
+pub fn sphere_rows(scene: &Scene) -> Vec<[f32; SPHERE_COLUMNS]> {
+    let g = scene.geometry();
+    g.prims()
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| match *p {
+            Primitive::Sphere { sphere } => {
+                let s = &g.spheres()[sphere as usize];
+                Some([i as f32, s.center.x, s.center.y, s.center.z, s.radius])
+            }
+            Primitive::Triangle { .. } => None,
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_mark_what_is_absent_with_minus_one() {
+        assert_eq!(
+            HitRecord::MISS.row(),
+            [f32::INFINITY, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]
+        );
+        let hit = HitRecord {
+            t: 2.5,
+            prim: Some(7),
+            object: Some(1),
+            u: 0.25,
+            v: 0.5,
+            normal: Vec3::new(0.0, 0.0, 1.0),
+            kind: Some(PrimKind::Triangle),
+        };
+        assert_eq!(hit.row(), [2.5, 7.0, 1.0, 0.25, 0.5, 0.0, 0.0, 1.0, 1.0]);
+    }
+
+    #[test]
+    fn check_rays_names_the_first_bad_ray() {
+        let good = [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, f32::INFINITY];
+        let mut bad = good;
+        bad[3..6].fill(0.0);
+        let rays = [good, good, bad, bad];
+        assert_eq!(check_rays(&rays[..2]), Ok(()));
+        assert!(matches!(
+            check_rays(&rays[..]),
+            Err((2, RayError::Direction(_)))
+        ));
+    }
+}
