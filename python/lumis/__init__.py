@@ -1,0 +1,297 @@
+"""lumis from Python: load a scene, trace numpy batches of rays, render to numpy.
+
+The `lumis-rt` distribution of the lumis ray tracer (https://github.com/... `python/`):
+
+>>> import numpy as np, lumis
+>>> s = lumis.load("assets/knot.obj")
+>>> o = np.zeros((1, 3), np.float32); o[0, 2] = 5
+>>> h = s.intersect(o, np.array([[0, 0, -1]], np.float32))
+>>> h.t, h.prim_id, h.normal
+
+Ray queries give exactly the answers of `lumis hits` (the same Rust function); renders give
+exactly the pixels of `lumis render`'s EXR. Long calls release the GIL and run on rayon's
+worker pool, so Python threads can query one scene concurrently. The API is documented in
+docs/python.md.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _lumis
+from ._defines import define_strings
+from ._lumis import RayError, SceneError
+
+__all__ = [
+    "AllHits",
+    "Hits",
+    "RayError",
+    "Scene",
+    "SceneError",
+    "load",
+]
+__version__ = "0.1.0"
+
+PathLike = Union[str, "os.PathLike[str]"]
+#: The accelerators (`lumis hits --accel`).
+ACCELS = ("sah", "brute", "bsp", "bsmp")
+#: The primitive tests (`lumis hits --precision`).
+PRECISIONS = ("watertight", "fast", "double")
+
+
+@dataclass(frozen=True)
+class Hits:
+    """Nearest hits, one entry per ray (the columns of `lumis hits`' `(N, 9)` rows).
+
+    `t` (float32, `inf` for a miss), `prim_id` and `obj_id` (int64, -1 for a miss), `u`, `v`
+    (float32 barycentric weights of the triangle's second and third vertex; 0 for spheres and
+    misses), `normal` (float32 `(N, 3)`, unit geometric normal: outward for spheres, by winding
+    for triangles; 0 for misses), `kind` (int8: 0 sphere, 1 triangle, -1 miss).
+    """
+
+    t: np.ndarray
+    prim_id: np.ndarray
+    obj_id: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    normal: np.ndarray
+    kind: np.ndarray
+
+    @property
+    def hit(self) -> np.ndarray:
+        """Bool mask of the rays that hit something."""
+        return self.prim_id >= 0
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def as_dict(self) -> Dict[str, np.ndarray]:
+        """The arrays by name."""
+        return dict(self.__dict__)
+
+    def rows(self) -> np.ndarray:
+        """The `(N, 9)` float32 rows `lumis hits --out` writes (ids as float32)."""
+        out = np.empty((len(self), 9), np.float32)
+        out[:, 0] = self.t
+        out[:, 1] = self.prim_id
+        out[:, 2] = self.obj_id
+        out[:, 3] = self.u
+        out[:, 4] = self.v
+        out[:, 5:8] = self.normal
+        out[:, 8] = self.kind
+        return out
+
+
+@dataclass(frozen=True)
+class AllHits:
+    """Every hit along every ray, one entry per hit: the rows of ray 0 first, then ray 1's,
+    and so on, each ray's sorted by `t` (ties by primitive id).
+
+    `ray` (int64) is the index of the ray each hit belongs to; `t`, `prim_id`, `obj_id`, `u`,
+    `v`, `normal`, `kind` are as in `Hits`; `graze` (bool) is true for a touch that does not
+    cross the surface (a silhouette edge or vertex, a tangent sphere), false for a crossing.
+    Each surface crossing is counted once, also where the ray passes through a shared edge or
+    vertex (docs/hard-cases.md, "All hits along a ray").
+    """
+
+    ray: np.ndarray
+    t: np.ndarray
+    prim_id: np.ndarray
+    obj_id: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    normal: np.ndarray
+    kind: np.ndarray
+    graze: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+
+def _points(a: Any) -> Any:
+    """An `(N, 3)` array as float32 or float64, converted only when it is neither."""
+    a = np.asarray(a)
+    if a.dtype != np.float32 and a.dtype != np.float64:
+        a = a.astype(np.float64)
+    return a
+
+
+def _bound(x: Any) -> Any:
+    """A `t_min`/`t_max`: a float, or a float32/float64 array."""
+    if isinstance(x, (int, float)):
+        return float(x)
+    a = np.asarray(x)
+    if a.ndim == 0:
+        return float(a)
+    if a.dtype != np.float32 and a.dtype != np.float64:
+        a = a.astype(np.float64)
+    return a
+
+
+class Scene:
+    """A loaded scene (`lumis.load`). Its accelerators are built on first use, one per
+    (`accel`, `precision`) asked for, and kept; a scene can be queried from several Python
+    threads at once.
+
+    Rays: `origins` and `directions` are `(N, 3)` float32 or float64 arrays (read in place:
+    any strides, no copy; other dtypes are converted to float64 first); `t_min` and `t_max`
+    numbers or `(N,)` arrays. Hits count in `(t_min, t_max]`; `t` is in units of the
+    direction's length. Every value is rounded to float32 once (round to nearest, as
+    `.astype(numpy.float32)`), which is what `lumis hits` reads from its float32 `.npy` rows,
+    so a float64 batch gives exactly the answers of `lumis hits` on `rays.astype(float32)`.
+    A ray outside the query domain (non-finite origin, zero or non-finite direction, NaN
+    `t_min`/`t_max`) raises `RayError` (a `ValueError`) naming its index; nothing is traced.
+
+    Keyword options: `precision` ("watertight", "fast", "double"; default the scene's
+    `precision` setting, as `lumis hits`), `accel` ("sah" default, "brute", "bsp", "bsmp"),
+    `threads` (None or 0: one worker per core; the answers do not depend on it).
+    """
+
+    __slots__ = ("_s",)
+
+    def __init__(self, inner: Any) -> None:
+        self._s = inner
+
+    def __repr__(self) -> str:
+        return (
+            f"<lumis.Scene {str(self.path)!r}: {self.num_primitives} primitives, "
+            f"{self.num_objects} objects>"
+        )
+
+    @property
+    def path(self) -> str:
+        """The file the scene was loaded from."""
+        return str(self._s.path)
+
+    @property
+    def num_primitives(self) -> int:
+        """Spheres and triangles: `prim_id` runs over `range(num_primitives)`."""
+        return self._s.num_primitives
+
+    @property
+    def num_objects(self) -> int:
+        """Objects: `obj_id` runs over `range(num_objects)`."""
+        return self._s.num_objects
+
+    @property
+    def settings(self) -> Dict[str, Any]:
+        """The scene's render settings after the overrides: width, height, spp (per axis),
+        max_depth, exposure, precision."""
+        return self._s.settings
+
+    @property
+    def warnings(self) -> list:
+        """What the loader warned about (`lumis render` prints these)."""
+        return self._s.warnings
+
+    def triangles(self) -> np.ndarray:
+        """Every triangle, float32 `(M, 10)`: primitive id, then the three world-space
+        vertices (as `lumis hits --triangles-out`)."""
+        return self._s.triangles()
+
+    def spheres(self) -> np.ndarray:
+        """Every sphere, float32 `(K, 5)`: primitive id, centre xyz, radius (as
+        `lumis hits --spheres-out`)."""
+        return self._s.spheres()
+
+    def intersect(
+        self,
+        origins: Any,
+        directions: Any,
+        t_min: Any = 0.0,
+        t_max: Any = math.inf,
+        *,
+        precision: Optional[str] = None,
+        accel: str = "sah",
+        threads: Optional[int] = None,
+    ) -> Hits:
+        """The nearest hit of each ray (see the class docs for the arguments): bit for bit
+        the rows `lumis hits` writes for the same float32 rays."""
+        d = self._s.intersect(
+            _points(origins), _points(directions), _bound(t_min), _bound(t_max),
+            precision, accel, threads,
+        )
+        return Hits(**d)
+
+    def occluded(
+        self,
+        origins: Any,
+        directions: Any,
+        t_min: Any = 0.0,
+        t_max: Any = math.inf,
+        *,
+        precision: Optional[str] = None,
+        accel: str = "sah",
+        threads: Optional[int] = None,
+    ) -> np.ndarray:
+        """Whether anything blocks each ray within `(t_min, t_max]` (bool `(N,)`): the
+        any-hit query of `lumis hits --any-hit` (true where its `t` is finite)."""
+        return self._s.occluded(
+            _points(origins), _points(directions), _bound(t_min), _bound(t_max),
+            precision, accel, threads,
+        )
+
+    def intersect_all(
+        self,
+        origins: Any,
+        directions: Any,
+        t_min: Any = 0.0,
+        t_max: Any = math.inf,
+        *,
+        precision: Optional[str] = None,
+        accel: str = "sah",
+        threads: Optional[int] = None,
+    ) -> AllHits:
+        """Every hit along each ray within `(t_min, t_max]`, each surface crossing counted
+        once, plus the grazes (`AllHits`): the rows of `lumis hits --all`.
+
+        Not in this build yet: raises `NotImplementedError` (the Rust query, `World::all_hits`,
+        is being merged); `lumis.ALL_HITS_AVAILABLE` says whether it is.
+        """
+        d = self._s.intersect_all(
+            _points(origins), _points(directions), _bound(t_min), _bound(t_max),
+            precision, accel, threads,
+        )
+        return AllHits(**d)
+
+
+#: Whether `Scene.intersect_all` is available in this build.
+ALL_HITS_AVAILABLE: bool = _lumis.ALL_HITS_AVAILABLE
+
+
+def load(
+    path: PathLike,
+    defines: Union[Mapping[str, Any], Iterable[str], None] = None,
+    *,
+    gltf_scene: Optional[int] = None,
+    camera: Optional[int] = None,
+    up: Optional[str] = None,
+    auto_camera: bool = False,
+    frame: Optional[int] = None,
+    **overrides: Any,
+) -> Scene:
+    """Loads a scene file (`.toml`, `.scn`, `.obj`, `.gltf`, `.glb`), as `lumis render` does.
+
+    Scene parameters, as `lumis render -D KEY=VALUE`: `defines` (a dict, or `"KEY=VALUE"`
+    strings written as on the command line) and then keyword arguments, in order, the last
+    winning: `lumis.load("scenes/default.toml", **{"render.spp": 2, "camera.fov": 30})`.
+    Values are Python values (bool, int, float, str, lists of them); a str is always a TOML
+    string. TOML scenes take any key of their schema, other formats only `render.*` keys.
+
+    `gltf_scene`, `camera` (glTF), `up` ("y" or "z") and `auto_camera` (glTF and OBJ) and
+    `frame` (TOML scenes with an `[animation]`) are `lumis render`'s `--gltf-scene`,
+    `--camera`, `--up`, `--auto-camera` and `--frame`.
+
+    Raises `SceneError` (a `ValueError`) with the message `lumis` prints after `error: ` when
+    the file, a file it references or an override is bad.
+    """
+    inner = _lumis.load(
+        os.fspath(path), define_strings(defines, overrides),
+        gltf_scene, camera, up, auto_camera, frame,
+    )
+    return Scene(inner)

@@ -1,0 +1,68 @@
+//! Query answers as numpy arrays: the [`HitRecord`]s of [`lumis_core::batch::trace_rays`] split
+//! into columns, each value the one `lumis hits` writes (float32 bit for bit; ids as int64,
+//! exact, where the file's float32 ids are exact up to 2^24).
+
+use lumis_core::batch::HitRecord;
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// The columns of `records`, built without the GIL.
+pub struct HitColumns {
+    t: Vec<f32>,
+    prim_id: Vec<i64>,
+    obj_id: Vec<i64>,
+    u: Vec<f32>,
+    v: Vec<f32>,
+    normal: Vec<f32>,
+    kind: Vec<i8>,
+}
+
+impl HitColumns {
+    /// Splits `records` into columns; absent ids and kinds are -1.
+    pub fn new(records: &[HitRecord]) -> Self {
+        let n = records.len();
+        let mut c = Self {
+            t: Vec::with_capacity(n),
+            prim_id: Vec::with_capacity(n),
+            obj_id: Vec::with_capacity(n),
+            u: Vec::with_capacity(n),
+            v: Vec::with_capacity(n),
+            normal: Vec::with_capacity(3 * n),
+            kind: Vec::with_capacity(n),
+        };
+        let id = |i: Option<u32>| i.map_or(-1, i64::from);
+        for r in records {
+            c.t.push(r.t);
+            c.prim_id.push(id(r.prim));
+            c.obj_id.push(id(r.object));
+            c.u.push(r.u);
+            c.v.push(r.v);
+            c.normal.extend_from_slice(&r.normal.to_array());
+            c.kind.push(r.kind.map_or(-1, |k| k as i8));
+        }
+        c
+    }
+
+    /// The columns as a dict of numpy arrays (moved, not copied).
+    pub fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+        let n = self.t.len();
+        let d = PyDict::new(py);
+        d.set_item("t", self.t.into_pyarray(py))?;
+        d.set_item("prim_id", self.prim_id.into_pyarray(py))?;
+        d.set_item("obj_id", self.obj_id.into_pyarray(py))?;
+        d.set_item("u", self.u.into_pyarray(py))?;
+        d.set_item("v", self.v.into_pyarray(py))?;
+        let normal = Array2::from_shape_vec((n, 3), self.normal).expect("3 floats per record");
+        d.set_item("normal", PyArray2::from_owned_array(py, normal))?;
+        d.set_item("kind", self.kind.into_pyarray(py))?;
+        Ok(d)
+    }
+}
+
+/// Whether each any-hit record found a blocker, as a bool array.
+pub fn blocked<'py>(py: Python<'py>, records: &[HitRecord]) -> Bound<'py, PyArray1<bool>> {
+    let b: Vec<bool> = records.iter().map(|r| r.t != f32::INFINITY).collect();
+    b.into_pyarray(py)
+}

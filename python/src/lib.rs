@@ -1,0 +1,82 @@
+//! `lumis._lumis`: the compiled half of the `lumis` Python package (the `lumis-rt`
+//! distribution). The Python half (`python/lumis/`) holds the public classes, their docstrings
+//! and the argument conversions; this module does the work: loading ([`load`]), batch ray
+//! queries on numpy arrays ([`scene::PyScene`], through [`lumis_core::batch`], the same function
+//! as `lumis hits`) and renders.
+//!
+//! Every long call releases the GIL and runs on rayon's pool (the global one, or a pool of the
+//! requested size, cached).
+
+mod errors;
+mod hits;
+mod rays;
+mod render;
+mod scene;
+mod threads;
+
+use pyo3::prelude::*;
+
+use lumis_core::scene::UpAxis;
+use lumis_io::formats::{LoadOptions, Override};
+
+pub use errors::{RayError, SceneError};
+
+/// Loads a scene file (`.toml`, `.scn`, `.obj`, `.gltf`, `.glb`) with `-D`-style overrides
+/// (`"KEY=VALUE"` strings, applied in order) and the model-file options of `lumis render`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (path, defines=Vec::new(), gltf_scene=None, camera=None, up=None, auto_camera=false, frame=None))]
+fn load(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    defines: Vec<String>,
+    gltf_scene: Option<usize>,
+    camera: Option<usize>,
+    up: Option<&str>,
+    auto_camera: bool,
+    frame: Option<u32>,
+) -> PyResult<scene::PyScene> {
+    let overrides = defines
+        .iter()
+        .map(|d| {
+            d.parse::<Override>()
+                .map_err(|e| SceneError::new_err(format!("-D {d}: {e}")))
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let up = match up {
+        None | Some("y") | Some("Y") => UpAxis::Y,
+        Some("z") | Some("Z") => UpAxis::Z,
+        Some(other) => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "up={other:?}: expected \"y\" or \"z\""
+            )));
+        }
+    };
+    if camera.is_some() && auto_camera {
+        return Err(pyo3::exceptions::PyValueError::new_err(
+            "camera and auto_camera conflict (as --camera and --auto-camera do)",
+        ));
+    }
+    let options = LoadOptions {
+        scene: gltf_scene,
+        camera,
+        up,
+        auto_camera,
+        frame,
+    };
+    let loaded = py.detach(|| lumis_io::formats::load_with_overrides(&path, &options, &overrides));
+    let scene = loaded.map_err(|e| errors::scene_error(&e))?;
+    Ok(scene::PyScene::new(scene, path))
+}
+
+/// The extension module.
+#[pymodule]
+fn _lumis(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_class::<scene::PyScene>()?;
+    m.add("SceneError", m.py().get_type::<SceneError>())?;
+    m.add("RayError", m.py().get_type::<RayError>())?;
+    m.add("HIT_COLUMNS", lumis_core::batch::HIT_COLUMNS)?;
+    m.add("ALL_HITS_AVAILABLE", scene::ALL_HITS_AVAILABLE)?;
+    Ok(())
+}

@@ -1,0 +1,299 @@
+//! `lumis._lumis.Scene`: a loaded scene and the accelerators built over it on demand, one per
+//! (accelerator, precision) asked for, each built once and shared by every later query
+//! (queries from several Python threads run concurrently, without the GIL).
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex, OnceLock};
+
+use lumis_core::accel::{AccelKind, BuildOptions};
+use lumis_core::batch::{check_rays, sphere_rows, trace_rays, triangle_rows};
+use lumis_core::geometry::Precision;
+use lumis_core::scene::{Scene, World};
+use numpy::ndarray::Array2;
+use numpy::{PyArray1, PyArray2};
+use pyo3::exceptions::{PyNotImplementedError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::RayError;
+use crate::hits::{HitColumns, blocked};
+use crate::rays::RayArgs;
+use crate::threads;
+
+/// Whether this build has the all-hits query (`World::all_hits`); see [`PyScene::intersect_all`].
+pub const ALL_HITS_AVAILABLE: bool = false;
+
+type WorldKey = (AccelKind, Precision);
+
+/// A scene loaded by `lumis.load`.
+#[pyclass(name = "Scene", module = "lumis._lumis", frozen)]
+pub struct PyScene {
+    scene: Scene,
+    path: PathBuf,
+    worlds: Mutex<HashMap<WorldKey, Arc<OnceLock<Arc<World>>>>>,
+}
+
+impl PyScene {
+    /// Wraps a loaded scene.
+    pub fn new(scene: Scene, path: PathBuf) -> Self {
+        Self {
+            scene,
+            path,
+            worlds: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// The loaded scene (settings as the file and the overrides left them).
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The world for `key`, built on first use (on the current rayon pool, without the GIL).
+    pub fn world(&self, key: WorldKey) -> Arc<World> {
+        let cell = {
+            let mut worlds = self.worlds.lock().unwrap_or_else(|p| p.into_inner());
+            worlds.entry(key).or_default().clone()
+        };
+        cell.get_or_init(|| {
+            let (kind, precision) = key;
+            let mut scene = self.scene.clone();
+            scene.settings_mut().precision = precision;
+            let options = BuildOptions {
+                max_leaf_size: kind.default_leaf_size(),
+            };
+            Arc::new(World::build(scene, kind, &options))
+        })
+        .clone()
+    }
+
+    /// The world key of the `accel` and `precision` arguments.
+    fn key(&self, accel: &str, precision: Option<&str>) -> PyResult<WorldKey> {
+        let kind = parse_accel(accel)?;
+        let precision = match precision {
+            None => self.scene.settings().precision,
+            Some(p) => parse_precision(p)?,
+        };
+        Ok((kind, precision))
+    }
+
+    /// Checks and traces the rays of `args` (nearest or any hit) without the GIL.
+    fn query(
+        &self,
+        py: Python<'_>,
+        args: &RayArgs<'_>,
+        key: WorldKey,
+        threads: Option<usize>,
+        any_hit: bool,
+    ) -> PyResult<Vec<lumis_core::batch::HitRecord>> {
+        let rays = args.rays();
+        let traced = py.detach(|| {
+            threads::run(threads, || {
+                check_rays(&rays)?;
+                let world = self.world(key);
+                Ok(trace_rays(&world, &rays, any_hit))
+            })
+        })?;
+        traced.map_err(|(i, e)| RayError::new_err(format!("ray {i}: {e}")))
+    }
+}
+
+#[pymethods]
+impl PyScene {
+    /// The file the scene was loaded from.
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.path.clone()
+    }
+
+    /// Primitives (spheres and triangles), in id order.
+    #[getter]
+    fn num_primitives(&self) -> usize {
+        self.scene.geometry().prims().len()
+    }
+
+    /// Objects (what `obj_id` counts).
+    #[getter]
+    fn num_objects(&self) -> usize {
+        self.scene.objects().len()
+    }
+
+    /// The render settings a dict: width, height, spp (per axis), max_depth, exposure,
+    /// precision.
+    #[getter]
+    fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let st = self.scene.settings();
+        let d = PyDict::new(py);
+        d.set_item("width", st.width)?;
+        d.set_item("height", st.height)?;
+        d.set_item("spp", st.spp)?;
+        d.set_item("max_depth", st.max_depth)?;
+        d.set_item("exposure", st.exposure)?;
+        d.set_item("precision", precision_name(st.precision))?;
+        Ok(d)
+    }
+
+    /// Warnings the loader gave (what `lumis render` prints as `warning: ...`).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.scene.warnings().to_vec()
+    }
+
+    /// Every triangle as float32 `(M, 10)`: primitive id, then the three world-space vertices
+    /// (what `lumis hits --triangles-out` writes).
+    fn triangles<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
+        rows_array(py, triangle_rows(&self.scene))
+    }
+
+    /// Every sphere as float32 `(K, 5)`: primitive id, world-space centre xyz, radius (what
+    /// `lumis hits --spheres-out` writes).
+    fn spheres<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
+        rows_array(py, sphere_rows(&self.scene))
+    }
+
+    /// Nearest hits: a dict of numpy arrays `t, prim_id, obj_id, u, v, normal, kind`.
+    #[pyo3(signature = (origins, directions, t_min, t_max, precision=None, accel="sah", threads=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn intersect<'py>(
+        &self,
+        py: Python<'py>,
+        origins: &Bound<'py, PyAny>,
+        directions: &Bound<'py, PyAny>,
+        t_min: &Bound<'py, PyAny>,
+        t_max: &Bound<'py, PyAny>,
+        precision: Option<&str>,
+        accel: &str,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let key = self.key(accel, precision)?;
+        let args = RayArgs::extract(origins, directions, t_min, t_max)?;
+        let records = self.query(py, &args, key, threads, false)?;
+        let columns = py.detach(|| HitColumns::new(&records));
+        columns.into_dict(py)
+    }
+
+    /// Any-hit queries: a bool array, true where something blocks the ray.
+    #[pyo3(signature = (origins, directions, t_min, t_max, precision=None, accel="sah", threads=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn occluded<'py>(
+        &self,
+        py: Python<'py>,
+        origins: &Bound<'py, PyAny>,
+        directions: &Bound<'py, PyAny>,
+        t_min: &Bound<'py, PyAny>,
+        t_max: &Bound<'py, PyAny>,
+        precision: Option<&str>,
+        accel: &str,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let key = self.key(accel, precision)?;
+        let args = RayArgs::extract(origins, directions, t_min, t_max)?;
+        let records = self.query(py, &args, key, threads, true)?;
+        Ok(blocked(py, &records))
+    }
+
+    /// All hits along each ray. BINDING POINT: `World::all_hits` (branch `allhits`, to be
+    /// merged into `core`) is not in this build; once it is, this traces through a
+    /// `lumis_core::batch` all-hits function shared with `lumis hits --all` and returns the
+    /// per-hit columns of [`HitColumns`] plus `ray` (int64 ray index) and `graze` (bool).
+    #[pyo3(signature = (origins, directions, t_min, t_max, precision=None, accel="sah", threads=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn intersect_all<'py>(
+        &self,
+        origins: &Bound<'py, PyAny>,
+        directions: &Bound<'py, PyAny>,
+        t_min: &Bound<'py, PyAny>,
+        t_max: &Bound<'py, PyAny>,
+        precision: Option<&str>,
+        accel: &str,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let _ = (self.key(accel, precision)?, threads);
+        let _ = RayArgs::extract(origins, directions, t_min, t_max)?;
+        Err(PyNotImplementedError::new_err(
+            "intersect_all: the all-hits query (World::all_hits, branch `allhits`) is not in \
+             this build of lumis yet; it arrives with the merge of `allhits` into `core`",
+        ))
+    }
+
+    /// Renders the scene (see `lumis.Scene.render` for the arguments); a dict of float32
+    /// arrays, one per EXR layer.
+    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, aovs=Vec::new(), seed=0, threads=None, exposure=None, accel="sah", precision=None, transparent=false, defaults_exposure_auto=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        width: Option<u32>,
+        height: Option<u32>,
+        spp: Option<u32>,
+        max_depth: Option<u32>,
+        aovs: Vec<String>,
+        seed: u64,
+        threads: Option<usize>,
+        exposure: Option<f32>,
+        accel: &str,
+        precision: Option<&str>,
+        transparent: bool,
+        defaults_exposure_auto: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let request = crate::render::Request {
+            width,
+            height,
+            spp,
+            max_depth,
+            aovs,
+            seed,
+            threads,
+            exposure,
+            accel: parse_accel(accel)?,
+            precision: precision.map(parse_precision).transpose()?,
+            transparent,
+            auto_exposure: defaults_exposure_auto,
+        };
+        crate::render::render(py, self, &request)
+    }
+}
+
+/// `rows` as a float32 `(len, N)` array.
+fn rows_array<const N: usize>(py: Python<'_>, rows: Vec<[f32; N]>) -> Bound<'_, PyArray2<f32>> {
+    let n = rows.len();
+    let flat: Vec<f32> = rows.into_iter().flatten().collect();
+    PyArray2::from_owned_array(py, Array2::from_shape_vec((n, N), flat).expect("N per row"))
+}
+
+/// `accel=`: the `--accel` values.
+pub fn parse_accel(s: &str) -> PyResult<AccelKind> {
+    Ok(match s {
+        "sah" => AccelKind::Sah,
+        "brute" => AccelKind::Brute,
+        "bsp" => AccelKind::Bsp,
+        "bsmp" => AccelKind::Bsmp,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "accel={s:?}: expected \"sah\", \"brute\", \"bsp\" or \"bsmp\""
+            )));
+        }
+    })
+}
+
+/// `precision=`: the `--precision` values.
+pub fn parse_precision(s: &str) -> PyResult<Precision> {
+    Ok(match s {
+        "watertight" => Precision::Watertight,
+        "fast" => Precision::Fast,
+        "double" => Precision::Double,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "precision={s:?}: expected \"watertight\", \"fast\" or \"double\""
+            )));
+        }
+    })
+}
+
+fn precision_name(p: Precision) -> &'static str {
+    match p {
+        Precision::Fast => "fast",
+        Precision::Watertight => "watertight",
+        Precision::Double => "double",
+    }
+}
