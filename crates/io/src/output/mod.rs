@@ -19,6 +19,7 @@
 
 mod aov_layers;
 mod cryptomatte;
+mod develop;
 mod error;
 mod exr;
 mod frame;
@@ -31,6 +32,7 @@ mod staged;
 mod target;
 mod temps;
 
+pub use self::develop::{Develop, Developed, develop, expose};
 pub use self::error::OutputError;
 pub use self::preflight::{PlannedOutput, prepare_outputs};
 // Public for the binary's other result files (`lumis hits` writes .npy arrays through them).
@@ -39,8 +41,7 @@ pub use self::temps::{STALE_AFTER, remove_staged_temps, remove_stale_temps};
 
 use std::path::Path;
 
-use lumis_core::camera::Camera;
-use lumis_core::film::{DisplayTransform, Film};
+use lumis_core::film::Film;
 
 pub use self::aov_layers::AovLayers;
 pub(crate) use self::exr::half_rgba;
@@ -69,30 +70,6 @@ pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
                 source,
             })
     })
-}
-
-/// Writes `film` as OpenEXR (`.exr`) or PNG (`.png`) depending on the extension of `path`,
-/// compared case-insensitively. `meta` and `camera` are used only for EXR, `exposure_stops`
-/// and `display` only for PNG (the EXR stays linear).
-pub fn write_by_extension(
-    path: &Path,
-    film: &Film,
-    camera: &Camera,
-    meta: &ExrMetadata,
-    exposure_stops: f32,
-    display: DisplayTransform,
-) -> Result<(), OutputError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("exr") => write_exr(path, film, camera, meta),
-        Some("png") => write_png(path, film, exposure_stops, display),
-        _ => Err(OutputError::UnsupportedExtension {
-            path: path.to_path_buf(),
-        }),
-    }
 }
 
 /// Rejects films with no pixels before any file is created, so nothing on disk changes.
