@@ -96,7 +96,7 @@ impl Accel {
             })
             .collect();
         // Stable: a sphere's two roots rounded to one `t` keep their order.
-        hits.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.prim.cmp(&b.prim)));
+        hits.sort_by(|a, b| by_t(a.t, b.t).then(a.prim.cmp(&b.prim)));
         AllHits {
             ray: Some(*local),
             hits,
@@ -116,7 +116,7 @@ fn resolve(contacts: Vec<Contact>) -> Vec<(Contact, bool)> {
             Touch::Boundary { seam, claims } => seams.push((seam, claims, c)),
         }
     }
-    let order = |a: &Contact, b: &Contact| a.hit.t.total_cmp(&b.hit.t).then(a.prim.cmp(&b.prim));
+    let order = |a: &Contact, b: &Contact| by_t(a.hit.t, b.hit.t).then(a.prim.cmp(&b.prim));
     seams.sort_by(|a, b| a.0.cmp(&b.0).then(order(&a.2, &b.2)));
     for group in seams.chunk_by(|a, b| a.0 == b.0) {
         let claimers = group.iter().filter(|m| m.1).count();
@@ -132,6 +132,12 @@ fn resolve(contacts: Vec<Contact>) -> Vec<(Contact, bool)> {
         out.push((rep, !crossing));
     }
     out
+}
+
+/// Distances in IEEE order, as the nearest-hit query compares them: `-0 == +0` (a tie, broken
+/// by primitive index). Never NaN.
+fn by_t(a: f32, b: f32) -> std::cmp::Ordering {
+    a.partial_cmp(&b).unwrap_or(std::cmp::Ordering::Equal)
 }
 
 #[cfg(test)]
