@@ -10,6 +10,7 @@
 //! Every accelerator returns exactly the brute-force answer: the nearest hit, with exact-`t`
 //! ties broken towards the lower primitive index.
 
+mod all_hits;
 mod brute;
 mod bsp;
 mod build;
@@ -25,6 +26,7 @@ mod slab;
 mod test_boxes;
 mod wide;
 
+pub use all_hits::{AllHit, AllHits};
 pub use bsp::SplitRule;
 pub use bvh::{Bvh, Node};
 pub use frame::{Framing, Moved, NEAR_FACTOR, RayFrame};

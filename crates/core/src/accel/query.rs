@@ -218,7 +218,7 @@ impl Accel {
 
     /// [`Accel::occluded`] of a ray traced as given.
     #[inline(always)]
-    fn any<F>(&self, ray: &Ray, stats: &mut TraversalStats, test: F) -> bool
+    pub(super) fn any<F>(&self, ray: &Ray, stats: &mut TraversalStats, test: F) -> bool
     where
         F: FnMut(u32, &Ray) -> bool,
     {

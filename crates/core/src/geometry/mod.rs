@@ -5,6 +5,7 @@
 
 mod accuracy;
 mod conditioning;
+mod crossing;
 mod exact;
 mod mesh;
 mod mesh_attributes;
@@ -16,6 +17,7 @@ mod triangle;
 pub(crate) mod twofloat;
 
 pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsilon};
+pub use crossing::{Contact, Seam, Touch};
 pub use exact::{cross_sign, orient2d, triangle_area_is_zero};
 pub use mesh::{Mesh, MeshError};
 pub use mesh_attributes::{AlphaTest, HitAttributes, MeshAttributes, SharedAlphaTest};
