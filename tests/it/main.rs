@@ -34,6 +34,7 @@ mod hard_cases;
 mod hits;
 mod hits_all;
 mod memory_bombs;
+mod module_flow;
 mod non_regular_files;
 mod obj_mtl;
 mod output_safety;

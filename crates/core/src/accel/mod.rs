@@ -18,10 +18,10 @@ mod bvh;
 mod exhaustive;
 mod frame;
 pub(crate) mod leaves;
+mod packed;
 mod query;
 pub(crate) mod sah;
 mod segments;
-mod slab;
 #[cfg(test)]
 mod test_boxes;
 mod wide;
@@ -32,13 +32,15 @@ pub use bvh::{Bvh, Node};
 pub use frame::{Framing, Moved, NEAR_FACTOR, RayFrame};
 pub use query::Traced;
 pub use segments::{PAPER_SEGMENT_MAX, SegmentParams};
-pub(crate) use slab::within_box;
+
 pub use wide::{LEAF_ALIGN, PADDING, Wide8, WideBvh, WideNode};
 
 use std::sync::Arc;
 
-use crate::geometry::{Geometry, PackedLeaves, PrimHit, Primitive};
+use crate::geometry::{Geometry, PrimHit, Primitive};
 use crate::math::{Aabb, Ray};
+pub use packed::PackedLeaves;
+pub(crate) use packed::PackedWatertight;
 
 /// Which acceleration structure to build.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

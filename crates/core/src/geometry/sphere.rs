@@ -174,7 +174,7 @@ impl Sphere {
             return nearest_in_range(t0, t1, ray);
         }
         let bounds = self.bounds();
-        let inside = |t: f32| crate::accel::within_box(&bounds, ray, t);
+        let inside = |t: f32| crate::math::slab::within_box(&bounds, ray, t);
         match (inside(t0), inside(t1)) {
             (true, true) => nearest_in_range(t0, t1, ray),
             (true, false) => nearest_in_range(t0, t0, ray),
