@@ -30,6 +30,7 @@ from ._lumis import RayError, SceneError
 __all__ = [
     "AllHits",
     "Hits",
+    "Image",
     "RayError",
     "Scene",
     "SceneError",
@@ -111,6 +112,26 @@ class AllHits:
 
     def __len__(self) -> int:
         return len(self.t)
+
+
+class Image(Dict[str, np.ndarray]):
+    """A render: the EXR's channels by name (`R`, `G`, `B`, `A`, `Z`, `N.X`, `N.Y`, `N.Z`,
+    `id.object`, `id.prim`, and `albedo.R/G/B`, `P.X/Y/Z`, `uv.U/V` when asked; Blender's
+    names with `layout="blender"`), each an `(H, W)` array holding exactly the values the EXR
+    `lumis render` writes would hold: RGBA as float16 (float32 with `float_rgba=True`),
+    linear and already exposed; the rest float32 (ids as float, -1 where the centre ray
+    missed; `Z` +inf there). Row 0 is the top of the image.
+    """
+
+    #: The exposure applied to RGBA, in stops.
+    exposure: float
+    #: Whether it was computed from the image (glTF and OBJ files without `exposure=`).
+    auto_exposure: bool
+
+    def rgba(self) -> np.ndarray:
+        """`(H, W, 4)` RGBA as stored (in either layout)."""
+        prefix = "" if "R" in self else "ViewLayer.Combined."
+        return np.stack([self[prefix + c] for c in "RGBA"], axis=-1)
 
 
 def _points(a: Any) -> Any:
@@ -248,16 +269,65 @@ class Scene:
         threads: Optional[int] = None,
     ) -> AllHits:
         """Every hit along each ray within `(t_min, t_max]`, each surface crossing counted
-        once, plus the grazes (`AllHits`): the rows of `lumis hits --all`.
-
-        Not in this build yet: raises `NotImplementedError` (the Rust query, `World::all_hits`,
-        is being merged); `lumis.ALL_HITS_AVAILABLE` says whether it is.
-        """
+        once (also where the ray passes through a shared edge or vertex), plus the grazes
+        (`AllHits`): bit for bit the rows of `lumis hits --all` for the same float32 rays. The
+        watertight triangle test is used also with `precision="fast"`."""
         d = self._s.intersect_all(
             _points(origins), _points(directions), _bound(t_min), _bound(t_max),
             precision, accel, threads,
         )
         return AllHits(**d)
+
+
+    def render(
+        self,
+        width: Optional[int] = None,
+        height: Optional[int] = None,
+        spp: Optional[int] = None,
+        *,
+        max_depth: Optional[int] = None,
+        aovs: Sequence[str] = (),
+        seed: int = 0,
+        threads: Optional[int] = None,
+        exposure: Optional[float] = None,
+        accel: str = "sah",
+        precision: Optional[str] = None,
+        transparent: bool = False,
+        float_rgba: bool = False,
+        layout: str = "lumis",
+        tonemap: str = "none",
+        display: Optional[str] = None,
+        path: Union[PathLike, Sequence[PathLike], None] = None,
+    ) -> Image:
+        """Renders the scene as `lumis render` does with the same options and returns the
+        EXR's channels (`Image`): exactly the pixels of `lumis render SCENE -o out.exr` with
+        `--width`, `--height`, `--spp` (per axis), `--max-depth`, `--aov`, `--seed`,
+        `--exposure`, `--accel`, `--precision`, `--transparent`, `--float`, `--layout`.
+
+        The exposure is `exposure` stops, else the scene's `exposure`, else for glTF and OBJ
+        files automatic (as the command). `path`: also write the image to these files (`.exr`
+        or `.png` by extension; the PNG through `tonemap` ("none", "filmic") and `display`
+        ("srgb", "clamp"; default the scene's)), each replaced only once all were encoded. The
+        EXR's pixels are the command's; its header lacks the command's provenance attributes
+        (`lumis/sceneHash`, `lumis/seed`, `lumis/settings`). The image does not depend on
+        `threads`. Raises `SceneError` if the render cannot run (a setting out of range).
+        """
+        if path is None:
+            paths: list = []
+        elif isinstance(path, (str, os.PathLike)):
+            paths = [os.fspath(path)]
+        else:
+            paths = [os.fspath(p) for p in path]
+        r = self._s.render(
+            width, height, spp, max_depth, list(aovs), seed, threads, exposure, accel,
+            precision, transparent, float_rgba, layout, tonemap, display, paths,
+        )
+        image = Image()
+        for name, plane in r["channels"].items():
+            image[name] = plane.view(np.float16) if plane.dtype == np.uint16 else plane
+        image.exposure = r["exposure"]
+        image.auto_exposure = r["auto_exposure"]
+        return image
 
 
 #: Whether `Scene.intersect_all` is available in this build.

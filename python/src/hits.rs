@@ -2,7 +2,7 @@
 //! into columns, each value the one `lumis hits` writes (float32 bit for bit; ids as int64,
 //! exact, where the file's float32 ids are exact up to 2^24).
 
-use lumis_core::batch::HitRecord;
+use lumis_core::batch::{AllHitRecord, HitRecord};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -57,6 +57,33 @@ impl HitColumns {
         let normal = Array2::from_shape_vec((n, 3), self.normal).expect("3 floats per record");
         d.set_item("normal", PyArray2::from_owned_array(py, normal))?;
         d.set_item("kind", self.kind.into_pyarray(py))?;
+        Ok(d)
+    }
+}
+
+/// The columns of all-hits records: `ray` (int64 index), the [`HitColumns`], `graze` (bool).
+pub struct AllHitColumns {
+    ray: Vec<i64>,
+    hits: HitColumns,
+    graze: Vec<bool>,
+}
+
+impl AllHitColumns {
+    /// Splits `records` into columns.
+    pub fn new(records: &[AllHitRecord]) -> Self {
+        let hits: Vec<HitRecord> = records.iter().map(|r| r.hit).collect();
+        Self {
+            ray: records.iter().map(|r| r.ray as i64).collect(),
+            hits: HitColumns::new(&hits),
+            graze: records.iter().map(|r| r.graze).collect(),
+        }
+    }
+
+    /// The columns as a dict of numpy arrays.
+    pub fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+        let d = self.hits.into_dict(py)?;
+        d.set_item("ray", self.ray.into_pyarray(py))?;
+        d.set_item("graze", self.graze.into_pyarray(py))?;
         Ok(d)
     }
 }

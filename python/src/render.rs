@@ -1,16 +1,30 @@
-//! Renders to numpy (filled in below).
+//! `Scene.render`: a render developed as `lumis render` develops it ([`develop`]: exposure
+//! fixed or automatic, finite check, encoding by extension), returned as the EXR's channels
+//! ([`exr_channels`]: the very values the file stores) and, when paths are given, written as
+//! the command writes them (staged, then renamed together).
 
-use pyo3::exceptions::PyNotImplementedError;
+use std::path::{Path, PathBuf};
+
+use numpy::PyArray2;
+use numpy::ndarray::Array2;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use lumis_core::accel::AccelKind;
+use lumis_core::accel::{AccelKind, BuildOptions};
+use lumis_core::film::{DisplayTransform, Tonemap, check_finite};
 use lumis_core::geometry::Precision;
+use lumis_core::render::{RenderOptions, render as render_world, worker_threads};
+use lumis_core::scene::World;
+use lumis_io::output::{
+    AovLayers, ChannelLayout, Develop, ExrMetadata, ExrSamples, StagedOutputs, develop,
+    exr_channels,
+};
 
+use crate::errors::{SceneError, chain};
 use crate::scene::PyScene;
 
-/// What `Scene.render` asks for.
-#[allow(dead_code)]
+/// What `Scene.render` asks for (the Python wrapper has checked the names).
 pub struct Request {
     pub width: Option<u32>,
     pub height: Option<u32>,
@@ -23,14 +37,136 @@ pub struct Request {
     pub accel: AccelKind,
     pub precision: Option<Precision>,
     pub transparent: bool,
-    pub auto_exposure: bool,
+    pub float_rgba: bool,
+    pub layout: ChannelLayout,
+    pub tonemap: Tonemap,
+    pub display: Option<DisplayTransform>,
+    pub paths: Vec<PathBuf>,
 }
 
-/// Renders `scene` as `request` says.
+/// Renders `scene` as `request` says: a dict `{"channels": {name: (H, W) array}, "exposure":
+/// stops applied, "auto_exposure": bool}`.
 pub fn render<'py>(
-    _py: Python<'py>,
-    _scene: &PyScene,
-    _request: &Request,
+    py: Python<'py>,
+    scene: &PyScene,
+    request: &Request,
 ) -> PyResult<Bound<'py, PyDict>> {
-    Err(PyNotImplementedError::new_err("render"))
+    // The settings as `lumis render`'s flags set them over the file's.
+    let mut s = scene.scene().clone();
+    let st = s.settings_mut();
+    st.width = request.width.unwrap_or(st.width);
+    st.height = request.height.unwrap_or(st.height);
+    st.spp = request.spp.unwrap_or(st.spp);
+    st.max_depth = request.max_depth.unwrap_or(st.max_depth);
+    st.precision = request.precision.unwrap_or(st.precision);
+    st.display = request.display.unwrap_or(st.display);
+    st.validate().map_err(|e| {
+        PyValueError::new_err(format!(
+            "the render settings after the arguments: {}",
+            chain(&e)
+        ))
+    })?;
+    if let Some(ev) = request.exposure
+        && (ev.is_nan() || ev.abs() > lumis_core::scene::limits::MAX_EXPOSURE)
+    {
+        return Err(PyValueError::new_err(format!(
+            "exposure={ev}: expected a finite number of stops within +-64"
+        )));
+    }
+    // The exposure: given, else the scene's, else (glTF and OBJ files) automatic.
+    let fixed_exposure = match request.exposure {
+        Some(ev) => Some(ev),
+        None if is_model_file(scene.file()) => None,
+        None => Some(st.exposure),
+    };
+    let how = Develop {
+        exposure: fixed_exposure,
+        tonemap: request.tonemap,
+        display: st.display,
+    };
+    let aov_layers = AovLayers {
+        albedo: request.aovs.iter().any(|a| a == "albedo"),
+        position: request.aovs.iter().any(|a| a == "position"),
+        uv: request.aovs.iter().any(|a| a == "uv"),
+    };
+    let opts = RenderOptions {
+        seed: request.seed,
+        threads: worker_threads(request.threads).0,
+        transparent: request.transparent,
+        ..RenderOptions::default()
+    };
+    let kind = request.accel;
+    let result = py.detach(|| -> Result<_, String> {
+        let options = BuildOptions {
+            max_leaf_size: kind.default_leaf_size(),
+        };
+        let world = World::build(s, kind, &options);
+        let mut rendered = render_world(&world, &opts).map_err(|e| chain(&e))?;
+        let scene = world.scene();
+        let mut meta = ExrMetadata {
+            float_rgba: request.float_rgba,
+            spp_per_axis: scene.settings().spp,
+            lens_samples: rendered.analysis.lens_rays,
+            aov_layers,
+            layout: request.layout,
+            frame: scene.frame(),
+            ..ExrMetadata::default()
+        };
+        let paths: Vec<&Path> = request.paths.iter().map(PathBuf::as_path).collect();
+        let developed = develop(&mut rendered.film, scene.camera(), &paths, &how, &mut meta)
+            .map_err(|e| chain(&e))?;
+        check_finite(&rendered.film).map_err(|e| chain(&e))?;
+        if !developed.images.is_empty() {
+            let mut staged = StagedOutputs::new();
+            for (path, bytes) in &developed.images {
+                staged.stage_bytes(path, bytes).map_err(|e| chain(&e))?;
+            }
+            staged.commit().map_err(|e| chain(&e))?;
+        }
+        let film = &rendered.film;
+        let size = (film.height() as usize, film.width() as usize);
+        Ok((
+            exr_channels(film, &meta),
+            size,
+            developed.exposure,
+            developed.auto_exposure,
+        ))
+    });
+    let (channels, size, exposure, auto) = result.map_err(SceneError::new_err)?;
+    let arrays = PyDict::new(py);
+    for (name, samples) in channels {
+        match samples {
+            // Half floats as their bits: the Python side views them as float16.
+            ExrSamples::F16(v) => {
+                let bits: Vec<u16> = v.iter().map(|h| h.to_bits()).collect();
+                arrays.set_item(name, plane(py, size, bits)?)?;
+            }
+            ExrSamples::F32(v) => arrays.set_item(name, plane(py, size, v)?)?,
+            ExrSamples::U32(v) => arrays.set_item(name, plane(py, size, v)?)?,
+        }
+    }
+    let out = PyDict::new(py);
+    out.set_item("channels", arrays)?;
+    out.set_item("exposure", exposure)?;
+    out.set_item("auto_exposure", auto)?;
+    Ok(out)
+}
+
+/// One channel as an `(H, W)` array.
+fn plane<T: numpy::Element>(
+    py: Python<'_>,
+    size: (usize, usize),
+    v: Vec<T>,
+) -> PyResult<Bound<'_, PyArray2<T>>> {
+    let a = Array2::from_shape_vec(size, v).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok(PyArray2::from_owned_array(py, a))
+}
+
+/// glTF and OBJ: files whose lights say nothing about a sensible brightness (as `lumis render`).
+fn is_model_file(p: &Path) -> bool {
+    p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        ["gltf", "glb", "obj"]
+            .iter()
+            .any(|m| e.eq_ignore_ascii_case(m))
+    })
 }

@@ -7,22 +7,24 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use lumis_core::accel::{AccelKind, BuildOptions};
-use lumis_core::batch::{check_rays, sphere_rows, trace_rays, triangle_rows};
+use lumis_core::batch::{check_rays, sphere_rows, trace_all_hits, trace_rays, triangle_rows};
+use lumis_core::film::{DisplayTransform, Tonemap};
 use lumis_core::geometry::Precision;
 use lumis_core::scene::{Scene, World};
+use lumis_io::output::ChannelLayout;
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, PyArray2};
-use pyo3::exceptions::{PyNotImplementedError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::RayError;
-use crate::hits::{HitColumns, blocked};
+use crate::hits::{AllHitColumns, HitColumns, blocked};
 use crate::rays::RayArgs;
 use crate::threads;
 
-/// Whether this build has the all-hits query (`World::all_hits`); see [`PyScene::intersect_all`].
-pub const ALL_HITS_AVAILABLE: bool = false;
+/// Whether this build has the all-hits query ([`PyScene::intersect_all`]).
+pub const ALL_HITS_AVAILABLE: bool = true;
 
 type WorldKey = (AccelKind, Precision);
 
@@ -42,6 +44,11 @@ impl PyScene {
             path,
             worlds: Mutex::new(HashMap::new()),
         }
+    }
+
+    /// The file the scene was loaded from.
+    pub fn file(&self) -> &std::path::Path {
+        &self.path
     }
 
     /// The loaded scene (settings as the file and the overrides left them).
@@ -192,14 +199,13 @@ impl PyScene {
         Ok(blocked(py, &records))
     }
 
-    /// All hits along each ray. BINDING POINT: `World::all_hits` (branch `allhits`, to be
-    /// merged into `core`) is not in this build; once it is, this traces through a
-    /// `lumis_core::batch` all-hits function shared with `lumis hits --all` and returns the
+    /// All hits along each ray ([`trace_all_hits`], the function of `lumis hits --all`): the
     /// per-hit columns of [`HitColumns`] plus `ray` (int64 ray index) and `graze` (bool).
     #[pyo3(signature = (origins, directions, t_min, t_max, precision=None, accel="sah", threads=None))]
     #[allow(clippy::too_many_arguments)]
     fn intersect_all<'py>(
         &self,
+        py: Python<'py>,
         origins: &Bound<'py, PyAny>,
         directions: &Bound<'py, PyAny>,
         t_min: &Bound<'py, PyAny>,
@@ -208,17 +214,23 @@ impl PyScene {
         accel: &str,
         threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let _ = (self.key(accel, precision)?, threads);
-        let _ = RayArgs::extract(origins, directions, t_min, t_max)?;
-        Err(PyNotImplementedError::new_err(
-            "intersect_all: the all-hits query (World::all_hits, branch `allhits`) is not in \
-             this build of lumis yet; it arrives with the merge of `allhits` into `core`",
-        ))
+        let key = self.key(accel, precision)?;
+        let args = RayArgs::extract(origins, directions, t_min, t_max)?;
+        let rays = args.rays();
+        let traced = py.detach(|| {
+            threads::run(threads, || {
+                check_rays(&rays)?;
+                let world = self.world(key);
+                Ok(AllHitColumns::new(&trace_all_hits(&world, &rays)))
+            })
+        })?;
+        let columns = traced.map_err(|(i, e)| RayError::new_err(format!("ray {i}: {e}")))?;
+        columns.into_dict(py)
     }
 
-    /// Renders the scene (see `lumis.Scene.render` for the arguments); a dict of float32
-    /// arrays, one per EXR layer.
-    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, aovs=Vec::new(), seed=0, threads=None, exposure=None, accel="sah", precision=None, transparent=false, defaults_exposure_auto=false))]
+    /// Renders the scene (see `lumis.Scene.render` for the arguments): a dict with the EXR's
+    /// channels, the exposure applied and whether it was automatic.
+    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, aovs=Vec::new(), seed=0, threads=None, exposure=None, accel="sah", precision=None, transparent=false, float_rgba=false, layout="lumis", tonemap="none", display=None, paths=Vec::new()))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -234,8 +246,36 @@ impl PyScene {
         accel: &str,
         precision: Option<&str>,
         transparent: bool,
-        defaults_exposure_auto: bool,
+        float_rgba: bool,
+        layout: &str,
+        tonemap: &str,
+        display: Option<&str>,
+        paths: Vec<PathBuf>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        if let Some(bad) = aovs
+            .iter()
+            .find(|a| !["albedo", "position", "uv"].contains(&a.as_str()))
+        {
+            return Err(PyValueError::new_err(format!(
+                "aovs: {bad:?} is not a layer; expected \"albedo\", \"position\" or \"uv\""
+            )));
+        }
+        let choice = |what: &str, value: &str, names: &[&str]| -> PyResult<usize> {
+            names.iter().position(|n| *n == value).ok_or_else(|| {
+                PyValueError::new_err(format!("{what}={value:?}: expected one of {names:?}"))
+            })
+        };
+        let layout = [ChannelLayout::Lumis, ChannelLayout::Blender]
+            [choice("layout", layout, &["lumis", "blender"])?];
+        let tonemap =
+            [Tonemap::None, Tonemap::Filmic][choice("tonemap", tonemap, &["none", "filmic"])?];
+        let display = match display {
+            None => None,
+            Some(d) => Some(
+                [DisplayTransform::Srgb, DisplayTransform::Clamp]
+                    [choice("display", d, &["srgb", "clamp"])?],
+            ),
+        };
         let request = crate::render::Request {
             width,
             height,
@@ -248,7 +288,11 @@ impl PyScene {
             accel: parse_accel(accel)?,
             precision: precision.map(parse_precision).transpose()?,
             transparent,
-            auto_exposure: defaults_exposure_auto,
+            float_rgba,
+            layout,
+            tonemap,
+            display,
+            paths,
         };
         crate::render::render(py, self, &request)
     }

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import lumis
+from lumis import Hits
 from conftest import ASSETS, SCENES, bits, cli_hits, random_rays
 
 KNOT = ASSETS / "knot.obj"
@@ -170,12 +171,38 @@ def test_threads_do_not_change_answers_and_callers_run_concurrently(knot):
         assert np.array_equal(bits(rows), bits(want[sl]))
 
 
-def test_intersect_all_is_a_marked_binding_point(knot):
-    o, d = np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]])
-    if lumis.ALL_HITS_AVAILABLE:
-        pytest.skip("all hits available: tested in test_intersect_all.py")
-    with pytest.raises(NotImplementedError, match="all_hits"):
-        knot.intersect_all(o, d)
+def test_intersect_all_known_answers_and_cli_rows(knot, cli, tmp_path):
+    ball = tmp_path / "ball.toml"
+    ball.write_text(
+        '[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n'
+        '[materials.m]\ndiffuse = [0.5, 0.5, 0.5]\n'
+        '[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = "m"\n'
+    )
+    s = lumis.load(ball)
+    o = np.array([[0, 0, 5], [0, 0, 5], [1, 0, 5]], np.float32)
+    d = np.array([[0, 0, -1], [0, 0, 1], [0, 0, -1]], np.float32)
+    a = s.intersect_all(o, d)
+    # In at 4 and out at 6; no hits; a tangent at x = 1 is one graze at t = 5.
+    assert a.ray.tolist() == [0, 0, 2]
+    assert a.t.tolist() == [4.0, 6.0, 5.0]
+    assert a.graze.tolist() == [False, False, True]
+    assert a.normal.tolist() == [[0, 0, 1], [0, 0, -1], [1, 0, 0]]
+    # The knot: bit for bit the rows of lumis hits --all.
+    rays = knot_rays(knot, 3000, seed=8).astype(np.float32)
+    want = cli_hits(cli, tmp_path, KNOT, rays, "--all")
+    a = knot.intersect_all(*split(rays))
+    rows = np.column_stack([a.ray.astype(np.float32), Hits(*(getattr(a, k) for k in
+                           ("t", "prim_id", "obj_id", "u", "v", "normal", "kind"))).rows(),
+                           a.graze.astype(np.float32)])
+    assert np.array_equal(bits(rows), bits(want))
+    # The first hit of each ray is its nearest hit; a closed knot is crossed an even number
+    # of times by every ray that ends outside it.
+    near = knot.intersect(*split(rays))
+    first = np.unique(a.ray, return_index=True)[1]
+    assert np.array_equal(bits(a.t[first]), bits(near.t[a.ray[first]]))
+    assert np.array_equal(np.unique(a.ray), np.nonzero(near.hit)[0])
+    crossings = np.bincount(a.ray[~a.graze], minlength=len(rays))
+    assert (crossings % 2 == 0).all()
 
 
 def test_default_scene_spheres_and_triangles(cli, tmp_path):

@@ -1,7 +1,8 @@
 //! `lumis info FILE`: what a scene or model file holds, without rendering.
 
 use anyhow::Result;
-use lumis_core::effects::{Analysis, EffectMode, effects_text};
+use lumis_core::effects::{Analysis, EffectMode};
+use lumis_core::integrator::effects_text;
 use lumis_core::scene::Scene;
 use std::fmt::Write as _;
 use std::path::Path;

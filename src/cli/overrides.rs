@@ -9,14 +9,10 @@
 use super::values::TonemapArg;
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis_core::camera::Camera;
-use lumis_core::film::Film;
-use lumis_core::film::{DisplayTransform, Tonemap};
+use lumis_core::film::Tonemap;
 use lumis_core::math::Vec3;
 use lumis_core::scene::{MAX_SPP, Settings};
 use lumis_io::formats::Override;
-use lumis_io::output::{ExrMetadata, OutputError, encode_exr, encode_png_with};
-use std::path::Path;
 
 /// What `--quick` divides each image side by (pbrt-v4's `--quick` does the same).
 pub const QUICK_DIVISOR: u32 = 4;
@@ -95,26 +91,9 @@ impl OverrideArgs {
         Ok(())
     }
 
-    /// The bytes of `film` as the image `path` names by extension, the PNG through
-    /// `--tonemap` (the caller stages them with the run's other outputs).
-    pub fn encode_image(
-        &self,
-        path: &Path,
-        film: &Film,
-        camera: &Camera,
-        meta: &ExrMetadata,
-        display: DisplayTransform,
-    ) -> Result<Vec<u8>> {
-        let ext = path.extension().and_then(|e| e.to_str());
-        // The film is already exposed, for the EXR too.
-        let bytes = match ext.map(str::to_ascii_lowercase).as_deref() {
-            Some("png") => encode_png_with(path, film, 0.0, display, Tonemap::from(self.tonemap))?,
-            Some("exr") => encode_exr(path, film, camera, meta)?,
-            _ => Err(OutputError::UnsupportedExtension {
-                path: path.to_path_buf(),
-            })?,
-        };
-        Ok(bytes)
+    /// The PNG tone curve of `--tonemap`.
+    pub fn tonemap(&self) -> Tonemap {
+        Tonemap::from(self.tonemap)
     }
 }
 

@@ -1,8 +1,9 @@
 //! The end-of-run summary: time per phase, rays by kind, throughput, and with `--stats` the
 //! effect decisions; also as JSON (`--stats-json`).
 
-use lumis_core::effects::{Analysis, effects_text};
+use lumis_core::effects::Analysis;
 use lumis_core::integrator::RayCounts;
+use lumis_core::integrator::effects_text;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::time::Duration;

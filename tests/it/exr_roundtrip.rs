@@ -8,9 +8,10 @@ use lumis_core::film::DisplayTransform;
 use lumis_core::film::{Film, PixelAov};
 use lumis_core::math::{Vec2, Vec3, Vec4};
 use lumis_io::output::{
-    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, OutputError,
-    write_by_extension, write_exr, write_png,
+    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, Develop, ExrMetadata,
+    OutputError, StagedOutputs, develop, write_exr, write_png,
 };
+use std::path::Path;
 
 use crate::common;
 use common::exr::{FlatImage, read_exr};
@@ -282,6 +283,28 @@ fn directory_target_fails_without_leftovers() {
     }
 }
 
+/// Develops `film` without exposure into the image `path` names by extension and writes it,
+/// as `lumis render` does.
+fn write_by_extension(
+    path: &Path,
+    film: &Film,
+    camera: &Camera,
+    meta: &ExrMetadata,
+) -> Result<(), OutputError> {
+    let (mut film, mut meta) = (film.clone(), meta.clone());
+    let how = Develop {
+        exposure: Some(0.0),
+        tonemap: lumis_core::film::Tonemap::None,
+        display: DisplayTransform::Srgb,
+    };
+    let developed = develop(&mut film, camera, &[path], &how, &mut meta)?;
+    let mut staged = StagedOutputs::new();
+    for (path, bytes) in &developed.images {
+        staged.stage_bytes(path, bytes)?;
+    }
+    staged.commit()
+}
+
 #[test]
 fn failed_encoding_leaves_existing_file_intact() {
     let dir = tempfile::tempdir().unwrap();
@@ -293,15 +316,7 @@ fn failed_encoding_leaves_existing_file_intact() {
     ] {
         let path = dir.path().join(name);
         std::fs::write(&path, b"previous render").unwrap();
-        let err = write_by_extension(
-            &path,
-            &film,
-            &camera(),
-            &meta(false),
-            0.0,
-            DisplayTransform::Srgb,
-        )
-        .unwrap_err();
+        let err = write_by_extension(&path, &film, &camera(), &meta(false)).unwrap_err();
         assert!(matches!(err, OutputError::EmptyFilm { .. }), "{err:?}");
         assert!(err.to_string().contains(name), "{err}");
         assert_eq!(std::fs::read(&path).unwrap(), b"previous render");
@@ -327,33 +342,16 @@ fn extension_dispatch() {
     let dir = tempfile::tempdir().unwrap();
     let (film, cam, meta) = (film(), camera(), meta(false));
     for name in ["a.EXR", "b.Exr"] {
-        write_by_extension(
-            &dir.path().join(name),
-            &film,
-            &cam,
-            &meta,
-            0.0,
-            DisplayTransform::Srgb,
-        )
-        .unwrap();
+        write_by_extension(&dir.path().join(name), &film, &cam, &meta).unwrap();
         read_exr(&dir.path().join(name));
     }
-    write_by_extension(
-        &dir.path().join("c.PNG"),
-        &film,
-        &cam,
-        &meta,
-        0.0,
-        DisplayTransform::Srgb,
-    )
-    .unwrap();
+    write_by_extension(&dir.path().join("c.PNG"), &film, &cam, &meta).unwrap();
     let png = image::open(dir.path().join("c.PNG")).unwrap();
     assert_eq!((png.width(), png.height()), (W, H));
 
     for name in ["d.jpg", "noext", "e.exr.tmp"] {
         let path = dir.path().join(name);
-        let err =
-            write_by_extension(&path, &film, &cam, &meta, 0.0, DisplayTransform::Srgb).unwrap_err();
+        let err = write_by_extension(&path, &film, &cam, &meta).unwrap_err();
         assert!(matches!(err, OutputError::UnsupportedExtension { .. }));
         assert!(err.to_string().contains(name), "{err}");
     }

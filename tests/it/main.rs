@@ -10,6 +10,7 @@ mod support_io;
 
 mod accel_agreement;
 mod accuracy_options;
+mod all_hits;
 mod assets_render;
 mod bad_input;
 mod bad_input_deps;
@@ -31,7 +32,9 @@ mod gltf_materials;
 mod gltf_views;
 mod hard_cases;
 mod hits;
+mod hits_all;
 mod memory_bombs;
+mod module_flow;
 mod non_regular_files;
 mod obj_mtl;
 mod output_safety;

@@ -277,7 +277,7 @@ def main(argv=None):
                                   text=True).stdout.strip()
 
         rev = "commit " + (git("rev-parse", "--short", "HEAD") or "?")
-        if git("status", "--porcelain", "--", "src", "Cargo.toml", "Cargo.lock"):
+        if git("status", "--porcelain", "--", "src", "crates", "Cargo.toml", "Cargo.lock"):
             rev += " + uncommitted changes in src/ or Cargo.*"
     print(f"machine: {os.cpu_count()} CPUs ({cpu_model()}); "
           + (f"both engines pinned to CPU {pinned}" if pinned is not None else "not pinned"))

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Puts lumis's measured Table I (the CSV of `lumis bench paper --csv FILE`) beside the
+"""Puts lumis's measured Table I (the CSV of `lumis-lab paper --csv FILE`) beside the
 percentages the paper reports, as a Markdown table. Standard library only.
 
 Usage: python3 tools/compare_table1.py table1.csv

@@ -16,7 +16,7 @@ from .exitcodes import SetupError
 
 # Inputs of the release build: a binary older than the newest of them may not be the code under
 # test. Files, or folders searched recursively, relative to the repository.
-BUILD_INPUTS = ("src", "Cargo.toml", "Cargo.lock")
+BUILD_INPUTS = ("src", "crates", "Cargo.toml", "Cargo.lock")
 
 # Set by --lumis PATH (see add_argument): an explicit binary, used as it is.
 _explicit: Path | None = None

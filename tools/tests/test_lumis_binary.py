@@ -1,5 +1,5 @@
 """The guard against benchmarking or checking old code (lumis_tools.lumis.binary): a
-target/release/lumis older than src/, Cargo.toml or Cargo.lock is refused, an explicit binary
+target/release/lumis older than src/, crates/, Cargo.toml or Cargo.lock is refused, an explicit binary
 is run as it is."""
 
 from __future__ import annotations
@@ -13,9 +13,11 @@ from lumis_tools import lumis
 
 @pytest.fixture
 def checkout(tmp_path, monkeypatch):
-    """A fake checkout: src/, Cargo.*, a release binary; everything at t = 1000 s."""
-    (tmp_path / "src" / "geometry").mkdir(parents=True)
-    files = [tmp_path / "src" / "main.rs", tmp_path / "src" / "geometry" / "bvh.rs",
+    """A fake checkout: src/, crates/, Cargo.*, a release binary; everything at t = 1000 s."""
+    (tmp_path / "src" / "cli").mkdir(parents=True)
+    (tmp_path / "crates" / "core" / "src").mkdir(parents=True)
+    files = [tmp_path / "src" / "main.rs", tmp_path / "src" / "cli" / "hits.rs",
+             tmp_path / "crates" / "core" / "src" / "lib.rs",
              tmp_path / "Cargo.toml", tmp_path / "Cargo.lock", tmp_path / "README.md"]
     exe = tmp_path / "target" / "release" / "lumis"
     exe.parent.mkdir(parents=True)
@@ -39,7 +41,8 @@ def test_up_to_date_binary_is_used(checkout):
     assert lumis.binary() == exe
 
 
-@pytest.mark.parametrize("changed", ["src/geometry/bvh.rs", "Cargo.toml", "Cargo.lock"])
+@pytest.mark.parametrize("changed", ["src/cli/hits.rs", "crates/core/src/lib.rs", "Cargo.toml",
+                                     "Cargo.lock"])
 def test_newer_input_refuses_the_binary(checkout, changed):
     repo, exe = checkout
     touch(repo / changed, 2000)

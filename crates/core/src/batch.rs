@@ -10,6 +10,11 @@
 //!   `(N, 9)` float32 row `lumis hits` writes: a miss is `t = +inf`, ids and kind `-1`, the
 //!   rest 0. Any-hit queries report the `t` of whichever blocker the traversal met first (not
 //!   necessarily the nearest; `+inf` when unoccluded), no ids, no kind.
+//! - [`AllHitRecord`]: every hit along a ray ([`World::all_hits`]: each surface crossing
+//!   counted once, plus the grazes), with its ray's index and a graze flag; its
+//!   [`AllHitRecord::row`] is the `(M, 11)` row of `lumis hits --all`: ray index, the nine
+//!   hit columns, graze (1 or 0). The records of ray 0 come first, then ray 1's, each ray's
+//!   sorted by `t` (ties by primitive id); a ray without hits has none.
 //! - spawn origins `(N, 6)`, row `i` for ray `i`: where a secondary ray leaving the hit would
 //!   start under the scene's `offset` rule, on the side the ray came from (xyz, what shadow and
 //!   reflection rays use) and on the far side (xyz, what refraction uses); `+inf` for misses.
@@ -30,6 +35,8 @@ use crate::scene::{Scene, World};
 pub const RAY_COLUMNS: usize = 8;
 /// Floats per hit row.
 pub const HIT_COLUMNS: usize = 9;
+/// Floats per all-hits row: ray index, the hit columns, graze.
+pub const ALL_HIT_COLUMNS: usize = HIT_COLUMNS + 2;
 /// Floats per triangle row.
 pub const TRIANGLE_COLUMNS: usize = 10;
 /// Floats per sphere row.
@@ -148,6 +155,62 @@ impl HitRecord {
             self.kind.map_or(-1.0, |k| k as u8 as f32),
         ]
     }
+}
+
+/// One hit of an all-hits query: the ray it belongs to, the hit, and whether it is a graze.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AllHitRecord {
+    /// Index of the ray in the batch.
+    pub ray: usize,
+    /// The hit (always with ids and kind).
+    pub hit: HitRecord,
+    /// A touch that does not cross the surface (a silhouette edge or vertex, a tangent
+    /// sphere); false for a crossing.
+    pub graze: bool,
+}
+
+impl AllHitRecord {
+    /// The `lumis hits --all` row: ray index, the [`HitRecord::row`] columns, graze (1 or 0);
+    /// the index as float32, exact up to 2^24.
+    pub fn row(&self) -> [f32; ALL_HIT_COLUMNS] {
+        let mut row = [0.0; ALL_HIT_COLUMNS];
+        row[0] = self.ray as f32;
+        row[1..=HIT_COLUMNS].copy_from_slice(&self.hit.row());
+        row[HIT_COLUMNS + 1] = if self.graze { 1.0 } else { 0.0 };
+        row
+    }
+}
+
+/// Every hit along every ray ([`World::all_hits`]) in parallel on the current rayon pool, in
+/// ray order (see the module docs). Rays must be inside the domain ([`check_rays`]); the
+/// result does not depend on the thread count.
+pub fn trace_all_hits<B: RayBatch + ?Sized>(world: &World, rays: &B) -> Vec<AllHitRecord> {
+    let n = rays.len();
+    let chunks: Vec<Vec<AllHitRecord>> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut stats = TraversalStats::default();
+            let mut records = Vec::new();
+            for i in c * CHUNK..n.min((c + 1) * CHUNK) {
+                let hits = world.all_hits(&rays.ray(i), &mut stats);
+                records.extend(hits.iter().map(|h| AllHitRecord {
+                    ray: i,
+                    hit: HitRecord {
+                        t: h.t,
+                        prim: Some(h.prim),
+                        object: Some(h.object),
+                        u: h.u,
+                        v: h.v,
+                        normal: h.normal,
+                        kind: Some(h.primitive.into()),
+                    },
+                    graze: h.graze,
+                }));
+            }
+            records
+        })
+        .collect();
+    chunks.concat()
 }
 
 /// Traces every ray through `world` in parallel on the current rayon pool; record `i` answers

@@ -15,7 +15,10 @@
 //! ```
 
 use crate::math::Vec3;
-use crate::scene::limits::MAX_IRRADIANCE;
+
+/// Ceiling of a light's irradiance at a shaded point (reached only within ~1e-3 of a light of
+/// the largest power, `scene::limits::MAX_LIGHT_POWER`).
+pub const MAX_IRRADIANCE: f32 = 1e26;
 
 /// Lumens per watt: the luminous efficacy of 555 nm light, which defines the candela. glTF
 /// light intensities are photometric (candela, lux); lumis's are radiometric (W/sr, W/m^2).

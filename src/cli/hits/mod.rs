@@ -1,16 +1,17 @@
 //! `lumis hits SCENE --rays rays.npy --out hits.npy`: batch ray queries for cross-checks and
 //! for timing against other tracers (formats in [`records`]).
 
+pub mod all;
 pub mod records;
 
 use super::accel::AccelArgs;
 use super::accuracy::AccuracyArgs;
+use all::HitRows;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use lumis_core::batch::HitRecord;
 use lumis_io::files::record_inputs;
 use lumis_io::output::{PlannedOutput, StagedOutputs, prepare_outputs};
-use records::{read_rays, spawn_rows, sphere_rows, stage_rows, trace_rays, triangle_rows};
+use records::{read_rays, spawn_rows, sphere_rows, stage_rows, triangle_rows};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -30,6 +31,12 @@ pub struct HitsArgs {
     /// ids and kind are -1.
     #[arg(long)]
     any_hit: bool,
+    /// Every hit along each ray instead of the nearest, each surface crossing counted once and
+    /// touches that do not cross flagged as grazes: --out is then float32 .npy (M, 11), one row
+    /// per hit: ray index, the nine columns above, graze flag (1 graze, 0 crossing); rows by ray,
+    /// then t. Uses the exact triangle tests (--precision fast counts as watertight).
+    #[arg(long, conflicts_with = "any_hit")]
+    all: bool,
     #[command(flatten)]
     accel: AccelArgs,
     #[command(flatten)]
@@ -84,11 +91,11 @@ pub fn run(args: &HitsArgs) -> Result<()> {
         let start = Instant::now();
         let world = accel_kind.build(scene);
         let build_s = start.elapsed().as_secs_f64();
-        let mut hits = Vec::new();
+        let mut hits = HitRows::Nearest(Vec::new());
         let mut trace_s = Vec::with_capacity(args.repeat as usize);
         for _ in 0..args.repeat {
             let start = Instant::now();
-            hits = trace_rays(&world, &rays[..], args.any_hit);
+            hits = HitRows::trace(&world, &rays, args.any_hit, args.all);
             trace_s.push(start.elapsed().as_secs_f64());
         }
         (world, build_s, hits, trace_s)
@@ -104,8 +111,7 @@ pub fn run(args: &HitsArgs) -> Result<()> {
     // Every result goes to a temporary file first; they replace existing files only once all
     // were written.
     let mut staged = StagedOutputs::new();
-    let rows: Vec<_> = hits.iter().map(HitRecord::row).collect();
-    stage_rows(&mut staged, &args.out, &rows)?;
+    hits.stage(&mut staged, &args.out)?;
     if let Some(path) = &args.spawn_out {
         stage_rows(&mut staged, path, &spawn_rows(&world, &rays[..]))?;
     }

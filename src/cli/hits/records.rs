@@ -17,7 +17,7 @@ use std::path::Path;
 
 use npyz::WriterBuilder;
 
-pub use lumis_core::batch::{spawn_rows, sphere_rows, trace_rays, triangle_rows};
+pub use lumis_core::batch::{spawn_rows, sphere_rows, triangle_rows};
 use lumis_io::output::{OutputError, StagedOutputs};
 pub use lumis_io::rays::read_rays;
 

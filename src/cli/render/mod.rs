@@ -18,7 +18,9 @@ use lumis_core::film::DisplayTransform;
 use lumis_core::render::{CancelFlag, RenderOptions, render};
 use lumis_core::scene::UpAxis;
 use lumis_io::files::record_inputs;
-use lumis_io::output::{ExrMetadata, PlannedOutput, StagedOutputs, TileHeader, prepare_outputs};
+use lumis_io::output::{
+    Develop, ExrMetadata, PlannedOutput, StagedOutputs, TileHeader, develop, prepare_outputs,
+};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -225,33 +227,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         exposure: fixed_exposure,
         display: scene.settings().display,
     });
-    let exposure = match fixed_exposure {
-        Some(ev) => ev,
-        // A tile's exposure is the merge's to compute, over the whole image.
-        None if tile.is_some() => 0.0,
-        None => {
-            let ev = lumis_core::film::auto_exposure(&rendered.film);
-            if !args.quiet {
-                eprintln!("auto exposure: {ev:+.2} EV");
-            }
-            ev
-        }
-    };
-    // A tile is written before exposure; the merge applies it (see lumis_io::farm).
-    if tile.is_none() {
-        rendered.film.expose(exposure);
-    }
-    // The last line of defence of the NaN guarantee: nothing is written from a film with a
-    // non-finite sample (the loaders' limits should make this unreachable).
-    lumis_core::film::check_finite(&rendered.film)?;
 
     let t = Instant::now();
-    let meta = ExrMetadata {
+    let mut meta = ExrMetadata {
         float_rgba: args.float,
         spp_per_axis: scene.settings().spp,
         lens_samples: rendered.analysis.lens_rays,
         render_seconds: args.timing_metadata.then_some(times.render.as_secs_f32()),
-        exposure,
+        exposure: 0.0,
         z_miss: args.window.z_miss,
         partial: rendered.is_partial(),
         aov_layers: args.passes.aov_layers(),
@@ -260,18 +243,21 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         tile,
         frame: scene.frame(),
     };
+    let how = Develop {
+        exposure: fixed_exposure,
+        tonemap: args.overrides.tonemap(),
+        display: scene.settings().display,
+    };
+    let paths: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+    let developed = develop(&mut rendered.film, scene.camera(), &paths, &how, &mut meta)?;
+    if developed.auto_exposure && !args.quiet {
+        eprintln!("auto exposure: {:+.2} EV", developed.exposure);
+    }
     // All outputs are written to temporary files first and renamed only when every one
     // succeeded, so a failing one leaves every existing file as it was.
     let mut staged = StagedOutputs::new();
-    for path in &outputs {
-        let bytes = args.overrides.encode_image(
-            path,
-            &rendered.film,
-            scene.camera(),
-            &meta,
-            scene.settings().display,
-        )?;
-        staged.stage_bytes(path, &bytes)?;
+    for (path, bytes) in &developed.images {
+        staged.stage_bytes(path, bytes)?;
     }
     times.write = t.elapsed();
 

@@ -3,9 +3,9 @@
 //! Node 0 is the root. An interior node's children sit next to each other at `first` and
 //! `first + 1`; a leaf holds `count > 0` entries of `prim_order` starting at `first`.
 
-use super::slab::{Slab, with_slab};
 use super::{Closest, Hit, TraversalStats};
 use crate::geometry::PrimHit;
+use crate::math::slab::{Slab, with_slab};
 use crate::math::{Aabb, Ray, gamma};
 
 /// Traversal stack depth; builders stop splitting well before this (depth is checked in `validate`).

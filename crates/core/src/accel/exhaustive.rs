@@ -4,10 +4,10 @@
 //! paper measured for scale lights are gains over this walk.
 
 use super::bvh::{Bvh, CullBound, MAX_DEPTH};
-use super::slab::{Slab, with_slab};
 use super::{Closest, Hit, TraversalStats};
 use crate::geometry::PrimHit;
 use crate::math::Ray;
+use crate::math::slab::{Slab, with_slab};
 
 impl Bvh {
     /// Nearest hit, visiting every node the ray's line crosses within its original range.

@@ -10,6 +10,7 @@
 //! Every accelerator returns exactly the brute-force answer: the nearest hit, with exact-`t`
 //! ties broken towards the lower primitive index.
 
+mod all_hits;
 mod brute;
 mod bsp;
 mod build;
@@ -17,26 +18,29 @@ mod bvh;
 mod exhaustive;
 mod frame;
 pub(crate) mod leaves;
+mod packed;
 mod query;
 pub(crate) mod sah;
 mod segments;
-mod slab;
 #[cfg(test)]
 mod test_boxes;
 mod wide;
 
+pub use all_hits::{AllHit, AllHits};
 pub use bsp::SplitRule;
 pub use bvh::{Bvh, Node};
 pub use frame::{Framing, Moved, NEAR_FACTOR, RayFrame};
 pub use query::Traced;
 pub use segments::{PAPER_SEGMENT_MAX, SegmentParams};
-pub(crate) use slab::within_box;
+
 pub use wide::{LEAF_ALIGN, PADDING, Wide8, WideBvh, WideNode};
 
 use std::sync::Arc;
 
-use crate::geometry::{Geometry, PackedLeaves, PrimHit, Primitive};
+use crate::geometry::{Geometry, PrimHit, Primitive};
 use crate::math::{Aabb, Ray};
+pub use packed::PackedLeaves;
+pub(crate) use packed::PackedWatertight;
 
 /// Which acceleration structure to build.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

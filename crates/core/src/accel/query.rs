@@ -3,8 +3,9 @@
 //! [`RayFrame`] how the ray is traced: as given, or from near the scene when its origin lies
 //! far away (the hit's `t` is then mapped back to the caller's ray), or not at all.
 
+use super::PackedWatertight;
 use super::{Accel, Hit, PrimHit, Structure, Traversal, TraversalStats, leaves};
-use crate::geometry::{Geometry, PackedWatertight, Precision, with_prim_test};
+use crate::geometry::{Geometry, Precision, with_prim_test};
 use crate::math::Ray;
 
 /// A nearest hit with the ray it was found on: the caller's ray, or the ray moved to near
@@ -218,7 +219,7 @@ impl Accel {
 
     /// [`Accel::occluded`] of a ray traced as given.
     #[inline(always)]
-    fn any<F>(&self, ray: &Ray, stats: &mut TraversalStats, test: F) -> bool
+    pub(super) fn any<F>(&self, ray: &Ray, stats: &mut TraversalStats, test: F) -> bool
     where
         F: FnMut(u32, &Ray) -> bool,
     {

@@ -13,10 +13,10 @@
 //!   just finished; a farther one is kept as a candidate (and culls by its distance) meanwhile.
 
 use super::bvh::{Bvh, CullBound, MAX_DEPTH, Node};
-use super::slab::{Slab, with_slab};
 use super::{Closest, Hit, TraversalStats};
 use crate::geometry::PrimHit;
 use crate::math::Ray;
+use crate::math::slab::{Slab, with_slab};
 
 /// The paper's segment cap ("the maximum segment length is set as 40000"): the `max` of its
 /// Table I configurations and the default of `--segment-max`.

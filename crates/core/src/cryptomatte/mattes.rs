@@ -2,7 +2,6 @@
 //! scene, and the per-pixel gathering of the samples' first hits that feeds them.
 
 use super::{CryptoLayer, Rank};
-use crate::scene::Scene;
 
 /// Type name of the object mattes (the objects' names).
 pub const CRYPTO_OBJECT: &str = "CryptoObject";
@@ -18,12 +17,15 @@ pub struct Mattes {
 }
 
 impl Mattes {
-    /// Empty layers with `levels` ranks for each of `pixels` pixels, named after `scene`'s
-    /// objects and materials.
-    pub fn new(scene: &Scene, levels: u32, pixels: usize) -> Self {
-        let objects: Vec<&str> = scene.objects().iter().map(|o| o.name.as_str()).collect();
-        let materials: Vec<&str> = scene.material_names().iter().map(String::as_str).collect();
-        let object_material: Vec<u32> = scene.objects().iter().map(|o| o.material).collect();
+    /// Empty layers with `levels` ranks for each of `pixels` pixels, named after a scene's
+    /// `objects` and `materials`; `object_material[o]` is object `o`'s material index.
+    pub fn new(
+        objects: &[&str],
+        materials: &[&str],
+        object_material: Vec<u32>,
+        levels: u32,
+        pixels: usize,
+    ) -> Self {
         // Loaders add materials no object ends up with (an OBJ's default, unused MTL
         // entries): listing them would offer empty mattes.
         let mut used = vec![false; materials.len()];
@@ -32,8 +34,8 @@ impl Mattes {
         }
         let used = |m: usize| used[m];
         Self {
-            object: CryptoLayer::new(CRYPTO_OBJECT, &objects, levels, pixels),
-            material: CryptoLayer::listing(CRYPTO_MATERIAL, &materials, used, levels, pixels),
+            object: CryptoLayer::new(CRYPTO_OBJECT, objects, levels, pixels),
+            material: CryptoLayer::listing(CRYPTO_MATERIAL, materials, used, levels, pixels),
             object_material,
         }
     }

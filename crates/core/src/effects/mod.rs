@@ -18,10 +18,8 @@
 //! tests in `tests/effects.rs` check this over every paper scene and asset.
 
 mod analysis;
-mod report;
 
 pub use analysis::{Analysis, Decision, MaterialTraits};
-pub use report::effects_text;
 
 use std::fmt;
 use std::str::FromStr;
@@ -35,7 +33,7 @@ pub enum EffectMode {
     Auto,
     /// Everything: every effect on, every per-material, per-light and per-hit test off, no
     /// cutoff. The reference the default is proven against, and the baseline of
-    /// `lumis bench effects`.
+    /// `lumis-lab effects`.
     All,
 }
 

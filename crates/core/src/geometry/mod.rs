@@ -5,22 +5,21 @@
 
 mod accuracy;
 mod conditioning;
+mod crossing;
 mod exact;
 mod mesh;
 mod mesh_attributes;
-mod packed;
 mod polygon;
 mod sphere;
 mod surface;
-mod triangle;
+pub(crate) mod triangle;
 pub(crate) mod twofloat;
 
 pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsilon};
+pub use crossing::{Contact, Seam, Touch};
 pub use exact::{cross_sign, orient2d, triangle_area_is_zero};
 pub use mesh::{Mesh, MeshError};
 pub use mesh_attributes::{AlphaTest, HitAttributes, MeshAttributes, SharedAlphaTest};
-pub use packed::PackedLeaves;
-pub(crate) use packed::PackedWatertight;
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
 pub use sphere::Sphere;
 pub use surface::SurfacePoint;
@@ -183,7 +182,9 @@ impl Geometry {
             |s| s.intersect_fast(ray),
             |[p0, p1, p2]| intersect_triangle_fast(ray, p0, p1, p2),
         )
-        .filter(|h| crate::accel::within_box(&self.bounds_of(self.prims[index as usize]), ray, h.t))
+        .filter(|h| {
+            crate::math::slab::within_box(&self.bounds_of(self.prims[index as usize]), ray, h.t)
+        })
     }
 
     /// [`Geometry::intersect`] with the `--precision double` tests.

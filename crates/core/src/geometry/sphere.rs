@@ -12,7 +12,7 @@ use super::twofloat::{Dd, diff_f32, two_prod, two_sum};
 use crate::math::{Aabb, Ray, Vec3, f32_down, f32_up};
 
 /// Below this fraction of `|d|^2 r^2` the double-double discriminant's sign is not certain.
-const TANGENT_BAND: f64 = 1.0 / (1u128 << 95) as f64;
+pub(super) const TANGENT_BAND: f64 = 1.0 / (1u128 << 95) as f64;
 
 /// A sphere in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -174,7 +174,7 @@ impl Sphere {
             return nearest_in_range(t0, t1, ray);
         }
         let bounds = self.bounds();
-        let inside = |t: f32| crate::accel::within_box(&bounds, ray, t);
+        let inside = |t: f32| crate::math::slab::within_box(&bounds, ray, t);
         match (inside(t0), inside(t1)) {
             (true, true) => nearest_in_range(t0, t1, ray),
             (true, false) => nearest_in_range(t0, t0, ray),

@@ -20,15 +20,15 @@ use std::cmp::Ordering;
 /// triangle it is tested against.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    pub(super) kx: usize,
-    pub(super) ky: usize,
-    pub(super) kz: usize,
-    pub(super) sx: f32,
-    pub(super) sy: f32,
+    pub(crate) kx: usize,
+    pub(crate) ky: usize,
+    pub(crate) kz: usize,
+    pub(crate) sx: f32,
+    pub(crate) sy: f32,
     sz: f32,
     /// Weights of `|v|` (world axes) whose dot product is a vertex's sheared magnitude, scaled
     /// so the product of two is the edge function's error bound (see [`EDGE_WEIGHT`]).
-    pub(super) err_w: Vec3A,
+    pub(crate) err_w: Vec3A,
 }
 
 impl WatertightRay {
@@ -167,13 +167,13 @@ const SHEAR_UNDERFLOW: f32 = f32::from_bits(0x0040_0000); // 2^-127
 /// up to 2^-150 absolutely, and an edge function multiplies that sheared coordinate by another
 /// vertex's (at most its magnitude over `EDGE_WEIGHT`); `(m_a + e)(m_b + e)` covers both
 /// products' errors when `e >= 2^-149 / EDGE_WEIGHT` (< 2^-138).
-pub(super) const PRODUCT_UNDERFLOW: f32 = f32::from_bits(0x0800); // 2^-138
+pub(crate) const PRODUCT_UNDERFLOW: f32 = f32::from_bits(0x0800); // 2^-138
 
 /// The absolute error an `f32` edge function can gain where its products fall below the
 /// normal range (each rounds by up to half the smallest subnormal, 2^-150; with the
 /// difference, 2^-148), doubled: what the relative bound alone misses for triangles of
 /// ~1e-19 and smaller.
-pub(super) const UNDERFLOW: f32 = f32::from_bits(4);
+pub(crate) const UNDERFLOW: f32 = f32::from_bits(4);
 
 /// The edges [`intersect_triangle`] could not decide in `f32` (`refine`), or all three: each
 /// re-evaluated from the `f64` shear, and where that too lies within its rounding of 0, decided

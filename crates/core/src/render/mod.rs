@@ -135,7 +135,7 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
     let pixels = window.width() as usize * window.height() as usize;
     let mut mattes = opts
         .cryptomatte
-        .map(|levels| Mattes::new(scene, levels, pixels));
+        .map(|levels| scene_mattes(scene, levels, pixels));
     let pass = Pass {
         scene,
         integrator: &integrator,
@@ -196,6 +196,14 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
         unfinished_tiles,
         tiles: tiles.len(),
     })
+}
+
+/// Empty Cryptomatte layers named after `scene`'s objects and materials.
+fn scene_mattes(scene: &Scene, levels: u32, pixels: usize) -> Mattes {
+    let objects: Vec<&str> = scene.objects().iter().map(|o| o.name.as_str()).collect();
+    let materials: Vec<&str> = scene.material_names().iter().map(String::as_str).collect();
+    let object_material: Vec<u32> = scene.objects().iter().map(|o| o.material).collect();
+    Mattes::new(&objects, &materials, object_material, levels, pixels)
 }
 
 /// What every pixel of one render shares.

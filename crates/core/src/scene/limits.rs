@@ -36,9 +36,8 @@ pub const MAX_RADIANCE: f32 = 1e6;
 pub const MAX_LIGHT_POWER: f32 = 1e20;
 /// Largest exposure, in stops either way: `2^64` times the largest radiance stays finite.
 pub const MAX_EXPOSURE: f32 = 64.0;
-/// Ceiling of a light's irradiance at a shaded point (reached only within ~1e-3 of a light of
-/// the largest power).
-pub const MAX_IRRADIANCE: f32 = 1e26;
+// The ceiling of a light's irradiance lives beside the light that it limits.
+pub use crate::light::MAX_IRRADIANCE;
 /// Ceiling of the radiance any shaded hit returns; the EXR stores half floats up to 65504
 /// (clamped there) or floats up to this.
 pub const MAX_SAMPLE_RADIANCE: f32 = 1e30;

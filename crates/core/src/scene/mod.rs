@@ -4,6 +4,7 @@
 //! File formats live in [`crate::formats`]; each builds a `Scene` through [`SceneBuilder`].
 //! A scene is a still; an animated one is posed at one frame by its loader ([`animation`]).
 
+mod all_hits;
 pub mod animation;
 mod auto;
 mod builder;
@@ -12,6 +13,7 @@ pub mod limits;
 mod settings;
 mod world;
 
+pub use all_hits::SurfaceHit;
 pub use animation::{Frame, FrameRate};
 pub use auto::{UpAxis, default_rig, framing_camera};
 pub use builder::SceneBuilder;

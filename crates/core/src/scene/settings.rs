@@ -7,7 +7,7 @@ use crate::geometry::{Offset, Precision};
 use crate::math::Vec3;
 
 /// The default contribution cutoff: branches below 1% of the pixel are not traced. Measured
-/// in docs/accuracy.md (`lumis bench accuracy`): 0.79x the time of no cutoff for +0.3% relMSE,
+/// in docs/accuracy.md (`lumis-lab accuracy`): 0.79x the time of no cutoff for +0.3% relMSE,
 /// far below the sampling error of the default 2x2 samples. The `.scn` loader sets 0, so the
 /// paper's scenes trace every branch to `maxReflections` (the paper's program itself stops
 /// reflections below a refraction after one bounce; BENCHMARKS.md, Phase 7).

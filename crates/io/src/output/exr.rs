@@ -200,16 +200,21 @@ pub(crate) fn half_rgba(v: f32) -> f16 {
     f16::from_f32(v.clamp(-HALF_MAX, HALF_MAX))
 }
 
-/// Builds the single layer: channels from the film, attributes from the camera and `meta`.
-fn build_layer(
-    film: &Film,
-    camera: &Camera,
-    meta: &ExrMetadata,
-) -> Layer<AnyChannels<FlatSamples>> {
-    let (width, height) = (film.width(), film.height());
+/// The channels of the EXR [`encode_exr`] writes for `film`, by name, in the file's order
+/// (sorted by name, as EXR requires), each `width x height` samples in row order: exactly the
+/// values stored (RGBA as half unless `meta.float_rgba`, the rest float). The Python package
+/// returns these as its render's arrays.
+pub fn exr_channels(film: &Film, meta: &ExrMetadata) -> Vec<(String, FlatSamples)> {
+    channel_list(film, meta)
+        .into_iter()
+        .map(|c| (c.name.to_string(), c.sample_data))
+        .collect()
+}
+
+/// The channels of the layer, named by `meta.layout` and sorted by name.
+fn channel_list(film: &Film, meta: &ExrMetadata) -> SmallVec<[AnyChannel<FlatSamples>; 4]> {
     let rgba = film.rgba();
     let aov = film.aov();
-
     let beauty = |component: fn(Vec4) -> f32| {
         let values = rgba.iter().map(|&p| component(p));
         // A tile keeps the film's floats: the merge converts them, as here, after exposure.
@@ -264,7 +269,17 @@ fn build_layer(
     for c in &mut channels {
         c.name = Text::from(meta.layout.channel(&c.name.to_string()).as_str());
     }
+    // EXR requires channels sorted by name.
+    AnyChannels::sort(SmallVec::from_vec(channels)).list
+}
 
+/// Builds the single layer: channels from the film, attributes from the camera and `meta`.
+fn build_layer(
+    film: &Film,
+    camera: &Camera,
+    meta: &ExrMetadata,
+) -> Layer<AnyChannels<FlatSamples>> {
+    let (width, height) = (film.width(), film.height());
     let (full_width, full_height) = film.full_size();
     let (ox, oy) = film.origin();
     let dof = camera.has_depth_of_field();
@@ -328,8 +343,9 @@ fn build_layer(
         Vec2(width as usize, height as usize),
         attributes,
         encoding,
-        // EXR requires channels sorted by name; `sort` does that for us.
-        AnyChannels::sort(SmallVec::from_vec(channels)),
+        AnyChannels {
+            list: channel_list(film, meta),
+        },
     )
 }
 

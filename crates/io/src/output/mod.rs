@@ -19,6 +19,7 @@
 
 mod aov_layers;
 mod cryptomatte;
+mod develop;
 mod error;
 mod exr;
 mod frame;
@@ -31,6 +32,7 @@ mod staged;
 mod target;
 mod temps;
 
+pub use self::develop::{Develop, Developed, develop, expose};
 pub use self::error::OutputError;
 pub use self::preflight::{PlannedOutput, prepare_outputs};
 // Public for the binary's other result files (`lumis hits` writes .npy arrays through them).
@@ -39,15 +41,14 @@ pub use self::temps::{STALE_AFTER, remove_staged_temps, remove_stale_temps};
 
 use std::path::Path;
 
-use lumis_core::camera::Camera;
-use lumis_core::film::{DisplayTransform, Film};
+use lumis_core::film::Film;
 
 pub use self::aov_layers::AovLayers;
 pub(crate) use self::exr::half_rgba;
 pub use self::exr::{
     ATTR_EXPOSURE, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
-    encode_exr, imath_m44f, write_exr,
+    encode_exr, exr_channels, imath_m44f, write_exr,
 };
 pub use self::frame::{ATTR_FRAME, numbered_path};
 pub(crate) use self::header_order::sorted_header;
@@ -58,6 +59,8 @@ pub use self::provenance::{
     ATTR_TILE_EXPOSURE, ATTR_TILE_RGBA, RenderIdentity, TILE_ATTR_PREFIX, TILE_EXPOSURE_AUTO,
     TileHeader,
 };
+/// The samples of one EXR channel ([`exr_channels`]): half or float.
+pub use ::exr::prelude::FlatSamples as ExrSamples;
 
 /// Writes `text` to `path` atomically (a report beside the images, e.g. `--stats-json`).
 pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
@@ -69,30 +72,6 @@ pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
                 source,
             })
     })
-}
-
-/// Writes `film` as OpenEXR (`.exr`) or PNG (`.png`) depending on the extension of `path`,
-/// compared case-insensitively. `meta` and `camera` are used only for EXR, `exposure_stops`
-/// and `display` only for PNG (the EXR stays linear).
-pub fn write_by_extension(
-    path: &Path,
-    film: &Film,
-    camera: &Camera,
-    meta: &ExrMetadata,
-    exposure_stops: f32,
-    display: DisplayTransform,
-) -> Result<(), OutputError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("exr") => write_exr(path, film, camera, meta),
-        Some("png") => write_png(path, film, exposure_stops, display),
-        _ => Err(OutputError::UnsupportedExtension {
-            path: path.to_path_buf(),
-        }),
-    }
 }
 
 /// Rejects films with no pixels before any file is created, so nothing on disk changes.

@@ -1,4 +1,4 @@
-//! `lumis bench accuracy`: what each accuracy knob (samples, depth, cutoff, precision, offset)
+//! `lumis-lab accuracy`: what each accuracy knob (samples, depth, cutoff, precision, offset)
 //! buys in error for what it costs in time, one axis at a time from the defaults.
 //!
 //! Every point is rendered in the same run as the defaults and the converged reference, so
@@ -16,7 +16,7 @@ use clap::Args;
 use report::{csv, markdown, summarise};
 use std::path::{Path, PathBuf};
 
-/// Options of `lumis bench accuracy`.
+/// Options of `lumis-lab accuracy`.
 #[derive(Args, Debug)]
 pub struct AccuracyArgs {
     /// Scenes: files, paper scene names (looked up in --paper-scenes), or the built-ins

@@ -1,4 +1,4 @@
-//! The scenes `lumis bench accuracy` measures: the built-in default, three paper scenes, one
+//! The scenes `lumis-lab accuracy` measures: the built-in default, three paper scenes, one
 //! mesh asset and two hard cases far from the origin that are built here in code.
 
 use anyhow::{Context, Result, bail};

@@ -1,4 +1,4 @@
-//! One scene's measurement for `lumis bench effects`: time and rays by kind of the default
+//! One scene's measurement for `lumis-lab effects`: time and rays by kind of the default
 //! render against `--effects all` (everything traced), in the same run in interleaved rounds,
 //! and the tables that report them.
 

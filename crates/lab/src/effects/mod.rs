@@ -1,4 +1,4 @@
-//! `lumis bench effects`: what the effect decisions save, per scene: the default render against
+//! `lumis-lab effects`: what the effect decisions save, per scene: the default render against
 //! `--effects all` in the same run.
 
 pub mod measure;
@@ -13,7 +13,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
 
-/// Options of `lumis bench effects`.
+/// Options of `lumis-lab effects`.
 #[derive(Args, Debug)]
 pub struct EffectsArgs {
     /// Scene files; with none, the built-in default scene and the paper's Table I scenes.

@@ -1,4 +1,4 @@
-//! §4: `lumis bench effects` measures both modes on the same scene and reports what it saw.
+//! §4: `lumis-lab effects` measures both modes on the same scene and reports what it saw.
 
 use super::measure::{csv, markdown, measure_effects, reasons_markdown};
 

@@ -1,4 +1,4 @@
-//! The large OBJ and GLB files `lumis bench load` times, generated on the spot (a displaced
+//! The large OBJ and GLB files `lumis-lab load` times, generated on the spot (a displaced
 //! grid) so the benchmark needs no data from anywhere, and the peak-memory reading.
 
 use std::fmt::Write as _;
@@ -60,7 +60,7 @@ pub fn write_glb(path: &Path, n: u32) -> std::io::Result<()> {
     let mut json = String::new();
     let _ = write!(
         json,
-        r#"{{"asset":{{"version":"2.0","generator":"lumis bench load"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],"buffers":[{{"byteLength":{bl}}}],"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":{pl},"target":34962}},{{"buffer":0,"byteOffset":{io},"byteLength":{il},"target":34963}}],"accessors":[{{"bufferView":0,"componentType":5126,"count":{pc},"type":"VEC3","min":[{},{},{}],"max":[{},{},{}]}},{{"bufferView":1,"componentType":5125,"count":{ic},"type":"SCALAR"}}]}}"#,
+        r#"{{"asset":{{"version":"2.0","generator":"lumis-lab load"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],"buffers":[{{"byteLength":{bl}}}],"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":{pl},"target":34962}},{{"buffer":0,"byteOffset":{io},"byteLength":{il},"target":34963}}],"accessors":[{{"bufferView":0,"componentType":5126,"count":{pc},"type":"VEC3","min":[{},{},{}],"max":[{},{},{}]}},{{"bufferView":1,"componentType":5125,"count":{ic},"type":"SCALAR"}}]}}"#,
         lo[0],
         lo[1],
         lo[2],

@@ -1,4 +1,4 @@
-//! `lumis bench load`: load time and peak memory of a generated large OBJ and GLB, each load
+//! `lumis-lab load`: load time and peak memory of a generated large OBJ and GLB, each load
 //! in a fresh child process (`lumis-lab load-one`) so that every peak belongs to one load.
 
 pub mod files;
@@ -10,7 +10,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::Path;
 
-/// Options of `lumis bench load`.
+/// Options of `lumis-lab load`.
 #[derive(Args, Debug)]
 pub struct LoadArgs {
     /// Triangles in the generated meshes (rounded to a square grid).

@@ -1,4 +1,4 @@
-//! The files `lumis bench load` generates are valid: both formats load with the same triangle
+//! The files `lumis-lab load` generates are valid: both formats load with the same triangle
 //! count and bounds, so the benchmark times real loads.
 
 use super::files::{write_glb, write_obj};

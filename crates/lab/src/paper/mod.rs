@@ -1,4 +1,4 @@
-//! `lumis bench paper`: runs the paper's Table I and prints it as Markdown and CSV.
+//! `lumis-lab paper`: runs the paper's Table I and prints it as Markdown and CSV.
 
 pub mod table;
 
@@ -9,7 +9,7 @@ use clap::Args;
 use std::path::PathBuf;
 use table::{csv, markdown_table, measure, paper_configs, table_i_files, work_table};
 
-/// Options of `lumis bench paper`.
+/// Options of `lumis-lab paper`.
 #[derive(Args, Debug)]
 pub struct PaperArgs {
     /// Folder holding the paper's .scn files.

@@ -12,7 +12,7 @@
 
 use super::{EMPTY_LANE, WideNode};
 use crate::accel::bvh::CullBound;
-use crate::accel::slab::Slab;
+use crate::math::slab::Slab;
 use crate::math::{Aabb, ROBUST_BOX_SCALE, Ray};
 
 /// Decides which children of a node a ray enters within `[t_min, t_max]`.

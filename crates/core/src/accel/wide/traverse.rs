@@ -11,8 +11,8 @@ use super::child_test::{ChildTest, LaneByLane, Octant, has_avx2};
 use super::{WideBvh, WideNode};
 use crate::accel::bvh::MAX_DEPTH;
 use crate::accel::leaves::{AnyLeaves, ClosestLeaves};
-use crate::accel::slab::{SlabF32, SlabF64, SlabKind};
 use crate::accel::{Closest, Hit, TraversalStats};
+use crate::math::slab::{SlabF32, SlabF64, SlabKind};
 use crate::math::{Ray, safe_inverse};
 
 /// A child still to visit: what [`WideNode::child`] and [`WideNode::count`] hold for it, and

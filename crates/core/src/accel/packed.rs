@@ -9,10 +9,10 @@
 //! lane the filter keeps goes through `intersect_triangle` itself, so the answers are exactly
 //! those of the per-primitive path, bit for bit.
 
-use super::triangle::{PRODUCT_UNDERFLOW, UNDERFLOW, WatertightRay, intersect_triangle};
-use super::{Geometry, Primitive};
-use crate::accel::leaves::{AnyLeaves, ClosestLeaves};
-use crate::accel::{Closest, LEAF_ALIGN, PADDING, TraversalStats};
+use super::leaves::{AnyLeaves, ClosestLeaves};
+use super::{Closest, LEAF_ALIGN, PADDING, TraversalStats};
+use crate::geometry::triangle::{PRODUCT_UNDERFLOW, UNDERFLOW, WatertightRay, intersect_triangle};
+use crate::geometry::{Geometry, Primitive};
 use crate::math::{Ray, Vec3};
 
 /// Lanes per group: the wide hierarchy aligns its leaves to this.

@@ -144,17 +144,17 @@ pub(crate) fn within_box(b: &Aabb, ray: &Ray, t: f32) -> bool {
 macro_rules! with_slab {
     ($ray:expr, |$slab:ident| $body:expr) => {{
         let inv = $crate::math::safe_inverse($ray.dir);
-        match $crate::accel::slab::SlabKind::with_inverse($ray, inv) {
-            $crate::accel::slab::SlabKind::Finite => {
-                let $slab = $crate::accel::slab::SlabF32::<false>::with_inverse($ray, inv);
+        match $crate::math::slab::SlabKind::with_inverse($ray, inv) {
+            $crate::math::slab::SlabKind::Finite => {
+                let $slab = $crate::math::slab::SlabF32::<false>::with_inverse($ray, inv);
                 $body
             }
-            $crate::accel::slab::SlabKind::AxisParallel => {
-                let $slab = $crate::accel::slab::SlabF32::<true>::with_inverse($ray, inv);
+            $crate::math::slab::SlabKind::AxisParallel => {
+                let $slab = $crate::math::slab::SlabF32::<true>::with_inverse($ray, inv);
                 $body
             }
-            $crate::accel::slab::SlabKind::Wide => {
-                let $slab = $crate::accel::slab::SlabF64::for_ray($ray);
+            $crate::math::slab::SlabKind::Wide => {
+                let $slab = $crate::math::slab::SlabF64::for_ray($ray);
                 $body
             }
         }

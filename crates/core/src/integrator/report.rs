@@ -1,7 +1,7 @@
 //! The effect decisions and the rays they saved, in plain words (`--stats`, `lumis info`).
 
-use super::Analysis;
-use crate::integrator::{BranchSkips, RayCounts};
+use super::{BranchSkips, RayCounts};
+use crate::effects::Analysis;
 use std::fmt::Write as _;
 
 /// Every decision of `analysis` with its reason, one line each; with `counts` (after a

@@ -3,6 +3,8 @@
 //! All geometry is world space `f32`; `f64` appears only where an accuracy case needs it
 //! (the triangle test's fallback).
 
+pub mod slab;
+
 pub use glam::{Mat3, Mat4, Vec2, Vec3, Vec3A, Vec4};
 
 /// A ray `origin + t * dir`, valid for `t_min < t <= t_max` (world space).

@@ -1,0 +1,144 @@
+//! The all-hits query: every surface crossing along a ray, each counted once, and the grazes
+//! (touches that do not cross), sorted by `t`. What trimesh's `multiple_hits` and Embree users'
+//! re-queries get wrong at shared edges and vertices, where an inclusive test reports a
+//! crossing once per triangle touched and an exclusive one may report none.
+//!
+//! ## The rule
+//!
+//! A crossing through an edge or a vertex of a closed mesh counts once; a touch that does not
+//! cross (a silhouette edge or vertex, a ray lying in a face, a tangent sphere) is reported
+//! once, flagged as a graze. Exactly: the ray is symbolically displaced by `(eps, eps^2)` in
+//! the watertight test's sheared plane; each triangle touched on its boundary *claims* the
+//! ray when the displaced ray crosses it, decided from exact signs
+//! ([`crate::geometry::Contact`], whose module states the formulas), and the touches of one
+//! mesh at one edge or vertex form one hit: a crossing when an odd number of them claims the
+//! ray, else a graze. The displaced ray crosses every closed surface generically, so the
+//! crossings reported between two points of the ray have the parity of "one inside, the other
+//! outside", for every ray, through any edge or vertex. Interior triangle hits and a sphere's
+//! two distinct roots are crossings.
+//!
+//! Each reported hit's `t` is the smallest any member of its group reports (they meet at one
+//! point; each rounds its own plane distance once); its primitive, barycentrics and normal are
+//! those of the claiming member with the smallest `(t, index)`, or for a graze of the member
+//! with the smallest `(t, index)`. The list is sorted by `t`, ties by primitive index, so the
+//! first entry has the nearest-hit query's `t` (the same tests decide what is touched).
+//!
+//! Every primitive in every leaf whose box the ray's interval enters is tested (the any-hit
+//! walk that never stops), once each, on the ray the accelerator's frame traces; all
+//! accelerators and traversals therefore give brute force's answer bit for bit.
+
+use super::{Accel, TraversalStats};
+use crate::geometry::{Contact, Geometry, Precision, PrimHit, Seam, Touch, WatertightRay};
+use crate::math::Ray;
+
+/// One hit of the all-hits query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AllHit {
+    /// The primitive index.
+    pub prim: u32,
+    /// Distance on the traced ray ([`AllHits::ray`]) and barycentrics (0 for spheres).
+    pub hit: PrimHit,
+    /// The distance on the caller's ray.
+    pub t: f32,
+    /// A touch that does not cross the surface (see the module docs).
+    pub graze: bool,
+}
+
+/// The answer of an all-hits query.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AllHits {
+    /// The ray traced: the caller's, or the one moved near the scene when its origin lies far
+    /// away ([`super::RayFrame`]); `None` when the ray misses the scene's bounds. Surfaces of
+    /// [`AllHits::hits`] are computed on it.
+    pub ray: Option<Ray>,
+    /// Every hit in the caller's `(t_min, t_max]`, sorted by `t`, ties by primitive index.
+    pub hits: Vec<AllHit>,
+}
+
+impl Accel {
+    /// Every surface crossing and graze of `ray` among the primitives of `geometry` (the
+    /// geometry this was built for), by the rule of the module docs. `precision` chooses the
+    /// triangle and sphere tests as for the nearest hit, except that `Fast` (whose edge
+    /// decisions are not exact, so no rule could count with it) uses the watertight tests.
+    pub fn all_hits_geometry(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+    ) -> AllHits {
+        let framing = self.frame.frame(ray);
+        let Some(local) = framing.ray(ray) else {
+            return AllHits::default();
+        };
+        // Every primitive of every leaf the interval enters, in whatever order the walk takes.
+        let mut prims = Vec::new();
+        self.any(local, stats, |p, _| {
+            prims.push(p);
+            false
+        });
+        prims.sort_unstable();
+        prims.dedup();
+        let wr = WatertightRay::new(local.dir);
+        let mut contacts = Vec::new();
+        for &p in &prims {
+            geometry.contacts(p, local, &wr, precision, &mut contacts);
+        }
+        let mut hits: Vec<AllHit> = resolve(contacts)
+            .into_iter()
+            .filter_map(|(c, graze)| {
+                Some(AllHit {
+                    prim: c.prim,
+                    hit: c.hit,
+                    t: framing.caller_t(c.hit.t)?,
+                    graze,
+                })
+            })
+            .collect();
+        // Stable: a sphere's two roots rounded to one `t` keep their order.
+        hits.sort_by(|a, b| by_t(a.t, b.t).then(a.prim.cmp(&b.prim)));
+        AllHits {
+            ray: Some(*local),
+            hits,
+        }
+    }
+}
+
+/// The hits of a set of contacts (in primitive order): crossings and grazes as they are, and
+/// one hit per seam (see the module docs), with its graze flag.
+fn resolve(contacts: Vec<Contact>) -> Vec<(Contact, bool)> {
+    let mut out = Vec::with_capacity(contacts.len());
+    let mut seams: Vec<(Seam, bool, Contact)> = Vec::new();
+    for c in contacts {
+        match c.touch {
+            Touch::Crossing => out.push((c, false)),
+            Touch::Graze => out.push((c, true)),
+            Touch::Boundary { seam, claims } => seams.push((seam, claims, c)),
+        }
+    }
+    let order = |a: &Contact, b: &Contact| by_t(a.hit.t, b.hit.t).then(a.prim.cmp(&b.prim));
+    seams.sort_by(|a, b| a.0.cmp(&b.0).then(order(&a.2, &b.2)));
+    for group in seams.chunk_by(|a, b| a.0 == b.0) {
+        let claimers = group.iter().filter(|m| m.1).count();
+        let crossing = claimers % 2 == 1;
+        // Sorted by (t, index): the first member has the group's t.
+        let t = group[0].2.hit.t;
+        let (_, _, mut rep) = if crossing {
+            *group.iter().find(|m| m.1).unwrap_or(&group[0])
+        } else {
+            group[0]
+        };
+        rep.hit.t = t;
+        out.push((rep, !crossing));
+    }
+    out
+}
+
+/// Distances in IEEE order, as the nearest-hit query compares them: `-0 == +0` (a tie, broken
+/// by primitive index). Never NaN.
+fn by_t(a: f32, b: f32) -> std::cmp::Ordering {
+    a.partial_cmp(&b).unwrap_or(std::cmp::Ordering::Equal)
+}
+
+#[cfg(test)]
+mod tests;

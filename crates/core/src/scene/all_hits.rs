@@ -1,0 +1,60 @@
+//! [`World::all_hits`]: every surface crossing and graze along a ray, each crossing counted
+//! once (the rule is stated in [`crate::accel::AllHits`]'s module and in docs/hard-cases.md).
+
+use super::World;
+use crate::accel::TraversalStats;
+use crate::geometry::Primitive;
+use crate::math::{Ray, Vec3};
+
+/// One hit of [`World::all_hits`]: the nearest-hit record's fields and a graze flag.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceHit {
+    /// Distance along the caller's ray.
+    pub t: f32,
+    /// Primitive index.
+    pub prim: u32,
+    /// Object index (the scene's object list).
+    pub object: u32,
+    /// Barycentric weight of the triangle's second vertex (0 for spheres).
+    pub u: f32,
+    /// Barycentric weight of the triangle's third vertex (0 for spheres).
+    pub v: f32,
+    /// Unit geometric normal: outward for spheres, by winding for triangles.
+    pub normal: Vec3,
+    /// Which primitive: a sphere or a mesh's triangle.
+    pub primitive: Primitive,
+    /// True for a touch that does not cross the surface (a silhouette edge or vertex, a
+    /// tangent sphere), false for a crossing.
+    pub graze: bool,
+}
+
+impl World {
+    /// Every surface crossing of `ray` in `(t_min, t_max]`, each counted once, and every graze,
+    /// sorted by `t` (ties by primitive index); with the scene's `precision`, except that
+    /// `fast` uses the watertight tests ([`crate::accel::Accel::all_hits_geometry`]).
+    pub fn all_hits(&self, ray: &Ray, stats: &mut TraversalStats) -> Vec<SurfaceHit> {
+        let scene = self.scene();
+        let g = scene.geometry();
+        let found = self
+            .accel()
+            .all_hits_geometry(g, scene.settings().precision, ray, stats);
+        let Some(traced) = found.ray else {
+            return Vec::new();
+        };
+        found
+            .hits
+            .iter()
+            .map(|h| SurfaceHit {
+                t: h.t,
+                prim: h.prim,
+                object: scene.object_of(h.prim),
+                u: h.hit.u,
+                v: h.hit.v,
+                // On the ray the hit was found on (a far ray's was moved near the scene).
+                normal: g.geometric_normal(h.prim, &traced, &h.hit),
+                primitive: g.prims()[h.prim as usize],
+                graze: h.graze,
+            })
+            .collect()
+    }
+}

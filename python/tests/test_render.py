@@ -1,0 +1,97 @@
+"""Renders: the arrays hold exactly the pixels of `lumis render`'s EXR (read back with
+OpenImageIO), for a TOML scene (fixed exposure, half RGBA) and an OBJ model (automatic
+exposure, float RGBA, every AOV layer), with Blender's channel names, written to files, and
+independent of the thread count."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import lumis
+from conftest import ASSETS, SCENES, run_cli
+
+oiio = pytest.importorskip("OpenImageIO")
+
+
+def read_exr(path):
+    """Every channel of `path` as float32 `(H, W)` planes (half converts exactly)."""
+    inp = oiio.ImageInput.open(str(path))
+    assert inp, oiio.geterror()
+    spec = inp.spec()
+    pixels = inp.read_image(0, 0, 0, spec.nchannels, oiio.FLOAT)
+    inp.close()
+    return {name: pixels[:, :, i] for i, name in enumerate(spec.channelnames)}
+
+
+def assert_same(image: lumis.Image, exr: dict):
+    assert sorted(image) == sorted(exr)
+    for name, plane in image.items():
+        got = plane.astype(np.float32)
+        assert got.shape == exr[name].shape, name
+        assert np.array_equal(got.view(np.uint32), exr[name].view(np.uint32)), name
+
+
+@pytest.mark.parametrize(
+    "path,kwargs,flags",
+    [
+        (SCENES / "default.toml", dict(width=64, height=48, spp=1), []),
+        (
+            ASSETS / "knot.obj",
+            dict(width=40, height=30, spp=2, aovs=["albedo", "position", "uv"], float_rgba=True,
+                 seed=7),
+            ["--aov", "albedo,position,uv", "--float", "--seed", "7"],
+        ),
+        (
+            ASSETS / "gltf" / "materials.gltf",
+            dict(width=32, height=32, spp=1, layout="blender", exposure=0.5, max_depth=2),
+            ["--layout", "blender", "--exposure", "0.5", "--max-depth", "2"],
+        ),
+    ],
+    ids=["toml", "obj-aovs-float", "gltf-blender"],
+)
+def test_render_equals_the_cli_exr(cli, tmp_path, path, kwargs, flags):
+    scene = lumis.load(path)
+    image = scene.render(**kwargs)
+    size = ["--width", kwargs["width"], "--height", kwargs["height"], "--spp", kwargs["spp"]]
+    run_cli(cli, "render", path, "-o", tmp_path / "cli.exr", "--quiet", *size, *flags)
+    assert_same(image, read_exr(tmp_path / "cli.exr"))
+    rgba = image.rgba()
+    assert rgba.dtype == (np.float32 if kwargs.get("float_rgba") else np.float16)
+    assert rgba.shape == (kwargs["height"], kwargs["width"], 4)
+    assert rgba[..., 3].max() > 0  # something was rendered
+    if path.suffix == ".obj":
+        assert image.auto_exposure
+    else:
+        assert not image.auto_exposure
+
+
+def test_path_writes_the_same_pixels_and_png(cli, tmp_path):
+    scene = lumis.load(SCENES / "default.toml", **{"render.spp": 1})
+    image = scene.render(48, 32, path=[tmp_path / "py.exr", tmp_path / "py.png"])
+    assert_same(image, read_exr(tmp_path / "py.exr"))
+    run_cli(cli, "render", SCENES / "default.toml", "-o", tmp_path / "cli.exr", "--png",
+            tmp_path / "cli.png", "--quiet", "--width", 48, "--height", 32, "-D",
+            "render.spp=1")
+    assert_same(image, read_exr(tmp_path / "cli.exr"))
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+
+
+def test_threads_do_not_change_the_image():
+    scene = lumis.load(SCENES / "default.toml")
+    a = scene.render(40, 24, 2, threads=1)
+    b = scene.render(40, 24, 2, threads=2)
+    for name in a:
+        assert np.array_equal(a[name], b[name], equal_nan=True), name
+
+
+def test_render_errors():
+    scene = lumis.load(SCENES / "default.toml")
+    with pytest.raises(ValueError, match="spp"):
+        scene.render(8, 8, 0)
+    with pytest.raises(ValueError, match="aovs"):
+        scene.render(8, 8, 1, aovs=["depth"])
+    with pytest.raises(ValueError, match="exposure"):
+        scene.render(8, 8, 1, exposure=float("nan"))
+    with pytest.raises(ValueError, match="layout"):
+        scene.render(8, 8, 1, layout="nuke")

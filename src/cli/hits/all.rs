@@ -1,0 +1,50 @@
+//! `lumis hits --all`: every surface crossing and graze along each ray, each crossing counted
+//! once ([`lumis_core::scene::World::all_hits`]; the rule is in docs/hard-cases.md, "All hits
+//! along a ray"), through the library's batch query ([`trace_all_hits`], shared with the
+//! Python package).
+//!
+//! Output: float32 `.npy` of shape `(M, 11)`, one row per hit, the rows of ray 0 first, then
+//! ray 1's, and so on, each ray's sorted by `t` (ties by primitive id): column 0 the ray's index
+//! in the input, columns 1..=9 the nearest-hit file's nine columns (`t`, primitive id, object
+//! id, `u`, `v`, normal xyz, kind), column 10 the graze flag (1 for a touch that does not cross
+//! the surface, 0 for a crossing). A ray without hits has no row. Indices are exact up to 2^24.
+
+use super::records::{HitsError, stage_rows};
+use lumis_core::batch::{AllHitRecord, HitRecord, RayRow, trace_all_hits, trace_rays};
+use lumis_core::scene::World;
+use lumis_io::output::StagedOutputs;
+use std::path::Path;
+
+/// What `--out` receives: one record per ray, or with `--all` one per hit.
+pub enum HitRows {
+    /// The nearest-hit (or any-hit) records, one per ray.
+    Nearest(Vec<HitRecord>),
+    /// The all-hits records (format in the module docs).
+    All(Vec<AllHitRecord>),
+}
+
+impl HitRows {
+    /// Traces `rays` through `world` on the current rayon pool: every hit with `all`, else
+    /// [`trace_rays`]. The result does not depend on the thread count.
+    pub fn trace(world: &World, rays: &[RayRow], any_hit: bool, all: bool) -> Self {
+        if all {
+            Self::All(trace_all_hits(world, rays))
+        } else {
+            Self::Nearest(trace_rays(world, rays, any_hit))
+        }
+    }
+
+    /// Stages the rows for `path` (see [`stage_rows`]).
+    pub fn stage(&self, staged: &mut StagedOutputs, path: &Path) -> Result<(), HitsError> {
+        match self {
+            Self::Nearest(records) => {
+                let rows: Vec<_> = records.iter().map(HitRecord::row).collect();
+                stage_rows(staged, path, &rows)
+            }
+            Self::All(records) => {
+                let rows: Vec<_> = records.iter().map(AllHitRecord::row).collect();
+                stage_rows(staged, path, &rows)
+            }
+        }
+    }
+}
