@@ -48,13 +48,11 @@ pub use self::exr::{
     ATTR_EXPOSURE, ATTR_FRAME, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_SPP,
     ATTR_SPP_PER_AXIS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_DISPLAY, ATTR_TILE_EXPOSURE,
-    ATTR_TILE_RGBA, AovLayers, ChannelLayout, ExrCamera, ExrFile, ExrImage, ExrMetadata, ReadError,
-    RenderIdentity, SOFTWARE, TILE_ATTR_PREFIX, TILE_EXPOSURE_AUTO, TileHeader, encode_exr,
-    imath_m44f, read_exr, write_exr,
+    ATTR_TILE_RGBA, AovLayers, ChannelLayout, CryptoHeader, ExrCamera, ExrFile, ExrHeader,
+    ExrImage, ExrMetadata, HeaderValue, ReadError, RenderIdentity, SOFTWARE, TILE_ATTR_PREFIX,
+    TILE_EXPOSURE_AUTO, TileHeader, encode_exr, imath_m44f, read_exr, write_exr,
 };
 pub use self::frame::numbered_path;
-// For farm/merge's own writer, until it develops through the reader and `encode_exr`.
-pub(crate) use self::exr::{half_rgba, sorted_header};
 pub use self::png::{encode_png_with, write_png, write_png_with};
 
 /// Writes `text` to `path` atomically (a report beside the images, e.g. `--stats-json`).

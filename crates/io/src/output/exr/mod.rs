@@ -58,9 +58,6 @@ pub use self::provenance::{
 };
 pub use self::read::{ExrFile, ExrImage, MAX_CHANNELS, MAX_SAMPLES, ReadError, read_exr};
 pub use self::write::{encode_exr, write_exr};
-// For farm/merge's own writer, until it develops through the reader and `encode_exr`.
-pub(crate) use self::header_order::sorted_header;
-pub(crate) use self::write::half_rgba;
 
 /// Value of the standard `software` attribute and of [`ATTR_RENDERER`]: `"lumis <version>"`.
 pub const SOFTWARE: &str = concat!("lumis ", env!("CARGO_PKG_VERSION"));
@@ -119,7 +116,7 @@ pub struct ExrMetadata {
     /// What the render was made from (scene hash, seed, settings); not written when `None`.
     pub identity: Option<RenderIdentity>,
     /// Set for a farm tile (`--tile`): RGBA is then stored as float before exposure, for
-    /// `lumis merge` to finish (see [`super::provenance`]).
+    /// `lumis merge` to finish (see `provenance.rs`).
     pub tile: Option<TileHeader>,
     /// The frame of an animation the image is: `lumis/frame`, `framesPerSecond`, `timeCode`
     /// (`frame.rs`); `None` for a still.

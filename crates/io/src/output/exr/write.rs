@@ -89,7 +89,7 @@ const REC709_D65: Chromaticities = Chromaticities {
 
 /// An RGBA value as half. Half tops out at 65504: a brighter (finite) value would round to
 /// infinity, so it is clamped there; `--float` keeps the film's values.
-pub(crate) fn half_rgba(v: f32) -> f16 {
+fn half_rgba(v: f32) -> f16 {
     f16::from_f32(v.clamp(-HALF_MAX, HALF_MAX))
 }
 
