@@ -1,5 +1,5 @@
-//! OpenEXR output: one single-part scanline image, ZIP16 (lossless), holding the beauty pass
-//! and the AOV layers a compositor needs.
+//! lumis's OpenEXR files: one single-part scanline image, ZIP16 (lossless), holding the beauty
+//! pass and the AOV layers a compositor needs; written here and read back here.
 //!
 //! | channel                 | type          | content                                            |
 //! |-------------------------|---------------|----------------------------------------------------|
