@@ -17,7 +17,7 @@ use lumis_core::geometry::Precision;
 use lumis_core::render::{RenderOptions, render as render_world, worker_threads};
 use lumis_core::scene::World;
 use lumis_io::output::{
-    AovLayers, ChannelLayout, Develop, ExrMetadata, ExrSamples, StagedOutputs, develop,
+    AovLayers, ChannelLayout, Develop, ExrCamera, ExrMetadata, ExrSamples, StagedOutputs, develop,
     exr_channels,
 };
 
@@ -113,8 +113,10 @@ pub fn render<'py>(
             ..ExrMetadata::default()
         };
         let paths: Vec<&Path> = request.paths.iter().map(PathBuf::as_path).collect();
-        let developed = develop(&mut rendered.film, scene.camera(), &paths, &how, &mut meta)
-            .map_err(|e| chain(&e))?;
+        let (full_w, full_h) = rendered.film.full_size();
+        let camera = ExrCamera::new(scene.camera(), full_w, full_h);
+        let developed =
+            develop(&mut rendered.film, &camera, &paths, &how, &mut meta).map_err(|e| chain(&e))?;
         check_finite(&rendered.film).map_err(|e| chain(&e))?;
         if !developed.images.is_empty() {
             let mut staged = StagedOutputs::new();

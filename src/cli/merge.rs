@@ -1,14 +1,13 @@
 //! `lumis merge TILE.exr... -o FULL.exr`: the tiles of a farm render (`lumis render --tile`)
-//! assembled into the image a single render writes (see `lumis_io::farm`).
+//! assembled into the film a single render makes and developed as `lumis render` develops it
+//! (see `lumis_io::farm::merge`).
 
 use super::values::{DisplayArg, TonemapArg};
 use anyhow::{Result, bail};
 use clap::Args;
 use lumis_core::film::{DisplayTransform, Tonemap};
-use lumis_core::film::{Film, PixelAov};
-use lumis_io::farm::merge::Merged;
 use lumis_io::files::{InputFile, file_id};
-use lumis_io::output::{PlannedOutput, StagedOutputs, encode_png_with, prepare_outputs};
+use lumis_io::output::{PlannedOutput, StagedOutputs, prepare_outputs};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -69,19 +68,23 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         });
     }
     prepare_outputs(&planned, &inputs)?;
-    let merged = lumis_io::farm::merge_tiles(&args.tiles)?;
+    let mut merged = lumis_io::farm::merge_tiles(&args.tiles)?;
+    // The same develop step as `lumis render`, on the film rebuilt from the tiles.
+    let mut paths: Vec<&Path> = vec![&args.output];
+    paths.extend(args.png.as_deref());
+    let display = args.display.map(DisplayTransform::from);
+    let developed = merged.develop(&paths, Tonemap::from(args.tonemap), display)?;
     let mut staged = StagedOutputs::new();
-    staged.stage_bytes(&args.output, &merged.bytes)?;
-    if let Some(png) = &args.png {
-        staged.stage_bytes(png, &preview(args, png, &merged)?)?;
+    for (path, bytes) in &developed.images {
+        staged.stage_bytes(path, bytes)?;
     }
     staged.commit()?;
     if !args.quiet {
-        let (w, h) = merged.size;
-        let exposure = if merged.auto_exposure {
-            format!("auto exposure {:+.2} EV", merged.exposure)
+        let (w, h) = merged.film.full_size();
+        let exposure = if developed.auto_exposure {
+            format!("auto exposure {:+.2} EV", developed.exposure)
         } else {
-            format!("exposure {:+.2} EV", merged.exposure)
+            format!("exposure {:+.2} EV", developed.exposure)
         };
         eprintln!(
             "merged {} tiles into {} ({w}x{h}, {exposure}) in {:.3} s",
@@ -94,20 +97,6 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// The PNG of the merged image: the exposed film a single render would have encoded.
-fn preview(args: &MergeArgs, path: &Path, merged: &Merged) -> Result<Vec<u8>> {
-    let (w, h) = merged.size;
-    let mut film = Film::new(w, h);
-    for (i, &p) in merged.rgba.iter().enumerate() {
-        let i = i as u32;
-        film.set(i % w, i / w, p, PixelAov::MISS);
-    }
-    let display = args.display.map_or(merged.display, DisplayTransform::from);
-    let tonemap = Tonemap::from(args.tonemap);
-    // The colour is exposed already, as a single render's film is when its PNG is encoded.
-    Ok(encode_png_with(path, &film, 0.0, display, tonemap)?)
 }
 
 /// A tile as an input of the run, so that `-o` cannot name one of them (also through a link).

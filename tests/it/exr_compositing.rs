@@ -12,8 +12,8 @@ use lumis_core::film::PixelWindow;
 use lumis_core::render::{CancelFlag, RenderOptions, Rendered, render};
 use lumis_core::scene::World;
 use lumis_io::output::{
-    ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_PARTIAL, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata,
-    write_exr,
+    ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_PARTIAL, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrCamera,
+    ExrMetadata, write_exr,
 };
 
 use crate::common;
@@ -51,7 +51,9 @@ fn write(dir: &Path, r: &Rendered, camera: &Camera, meta: &ExrMetadata) -> FlatI
         float_rgba: true,
         ..meta.clone()
     };
-    write_exr(&path, &r.film, camera, &meta).unwrap();
+    let (full_width, full_height) = r.film.full_size();
+    let camera = ExrCamera::new(camera, full_width, full_height);
+    write_exr(&path, &r.film, &camera, &meta).unwrap();
     read_exr(&path)
 }
 

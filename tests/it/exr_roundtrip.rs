@@ -8,8 +8,8 @@ use lumis_core::film::DisplayTransform;
 use lumis_core::film::{Film, PixelAov};
 use lumis_core::math::{Vec2, Vec3, Vec4};
 use lumis_io::output::{
-    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, Develop, ExrMetadata,
-    OutputError, StagedOutputs, develop, write_exr, write_png,
+    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, Develop, ExrCamera,
+    ExrMetadata, OutputError, StagedOutputs, develop, write_exr, write_png,
 };
 use std::path::Path;
 
@@ -19,7 +19,12 @@ use common::exr::{FlatImage, read_exr};
 const W: u32 = 7;
 const H: u32 = 5;
 
-fn camera() -> Camera {
+/// What the header records of [`scene_camera`].
+fn camera() -> ExrCamera {
+    ExrCamera::new(&scene_camera(), W, H)
+}
+
+fn scene_camera() -> Camera {
     Camera::look_at(
         Vec3::new(1.0, 2.0, 5.0),
         Vec3::new(0.0, 0.5, 0.0),
@@ -199,7 +204,7 @@ fn exr_pixels_round_trip() {
 fn exr_attributes() {
     let (_, image) = write_and_read(false);
     let attrs = &image.layer_data[0].attributes;
-    let cam = camera();
+    let cam = scene_camera();
 
     // Imath row-major M44f of the transposed (row-vector) matrix.
     let w2c = attrs.world_to_camera.expect("worldToCamera");
@@ -288,7 +293,7 @@ fn directory_target_fails_without_leftovers() {
 fn write_by_extension(
     path: &Path,
     film: &Film,
-    camera: &Camera,
+    camera: &ExrCamera,
     meta: &ExrMetadata,
 ) -> Result<(), OutputError> {
     let (mut film, mut meta) = (film.clone(), meta.clone());

@@ -22,6 +22,7 @@ mod cryptomatte;
 mod effects;
 mod exr_compositing;
 mod exr_passes;
+mod exr_reread;
 mod exr_roundtrip;
 mod farm;
 mod frames;

@@ -19,7 +19,8 @@ use lumis_core::render::{CancelFlag, RenderOptions, render};
 use lumis_core::scene::UpAxis;
 use lumis_io::files::record_inputs;
 use lumis_io::output::{
-    Develop, ExrMetadata, PlannedOutput, StagedOutputs, TileHeader, develop, prepare_outputs,
+    Develop, ExrCamera, ExrMetadata, PlannedOutput, StagedOutputs, TileHeader, develop,
+    prepare_outputs,
 };
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -249,7 +250,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         display: scene.settings().display,
     };
     let paths: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
-    let developed = develop(&mut rendered.film, scene.camera(), &paths, &how, &mut meta)?;
+    let (full_width, full_height) = rendered.film.full_size();
+    let camera = ExrCamera::new(scene.camera(), full_width, full_height);
+    let developed = develop(&mut rendered.film, &camera, &paths, &how, &mut meta)?;
     if developed.auto_exposure && !args.quiet {
         eprintln!("auto exposure: {:+.2} EV", developed.exposure);
     }

@@ -80,6 +80,36 @@ impl CryptoLayer {
         }
     }
 
+    /// A layer rebuilt from what a file recorded (an EXR read back): its type name, manifest,
+    /// `levels` ranks per pixel and every pixel's ranks. The scene indices are not in a file,
+    /// so such a layer has no [`Self::id_of`] (it ranks nothing; it is written again).
+    pub fn from_ranks(
+        name: &str,
+        manifest: BTreeMap<String, u32>,
+        levels: u32,
+        ranks: Vec<Rank>,
+    ) -> Result<Self, String> {
+        if !(1..=MAX_LEVELS).contains(&levels) {
+            return Err(format!(
+                "Cryptomatte layer {name}: {levels} ranks per pixel, expected 1..={MAX_LEVELS}"
+            ));
+        }
+        let levels = levels as usize;
+        if !ranks.len().is_multiple_of(levels) {
+            return Err(format!(
+                "Cryptomatte layer {name}: {} ranks are no whole number of pixels of {levels}",
+                ranks.len()
+            ));
+        }
+        Ok(Self {
+            name: name.to_string(),
+            ids: Vec::new(),
+            manifest,
+            levels,
+            ranks,
+        })
+    }
+
     /// The type name (`CryptoObject`), the prefix of the layer's channels.
     pub fn name(&self) -> &str {
         &self.name
@@ -90,7 +120,8 @@ impl CryptoLayer {
         self.levels
     }
 
-    /// The id bits of scene index `index`.
+    /// The id bits of scene index `index` (a layer made by [`Self::new`] or [`Self::listing`];
+    /// one rebuilt by [`Self::from_ranks`] knows no scene indices).
     pub fn id_of(&self, index: u32) -> u32 {
         self.ids[index as usize]
     }
@@ -208,6 +239,27 @@ mod tests {
         assert_eq!(names, ["a", "c"]);
         // The unlisted index still has its id (it is simply never hit).
         assert_eq!(layer.id_of(1), id_bits(murmur3_32(b"b")));
+    }
+
+    #[test]
+    fn a_layer_rebuilt_from_its_ranks_equals_in_what_a_file_holds() {
+        let mut layer = CryptoLayer::new("CryptoObject", &["a", "b"], 2, 3);
+        let r = Rank {
+            id: layer.id_of(1),
+            coverage: 0.5,
+        };
+        layer.set_pixel(2, &[r, Rank::default()]);
+        let back = CryptoLayer::from_ranks(
+            layer.name(),
+            layer.manifest().clone(),
+            2,
+            layer.ranks().to_vec(),
+        )
+        .unwrap();
+        assert_eq!(back.pixel(2), layer.pixel(2));
+        assert_eq!(back.manifest_json(), layer.manifest_json());
+        assert!(CryptoLayer::from_ranks("C", BTreeMap::new(), 0, vec![]).is_err());
+        assert!(CryptoLayer::from_ranks("C", BTreeMap::new(), 2, vec![r; 3]).is_err());
     }
 
     #[test]

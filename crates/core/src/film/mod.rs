@@ -3,6 +3,7 @@
 mod display;
 mod exposure;
 mod finite;
+mod paste;
 mod tile_split;
 mod tonemap;
 

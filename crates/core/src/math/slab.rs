@@ -133,6 +133,7 @@ impl SlabKind {
 /// True when `t` lies between the entry and the exit of box `b` as the traversals compute them
 /// for `ray` (the same slab test, the same widening): a hit at such a `t` is never culled by a
 /// box that contains `b`, since box entries and exits are monotone in the box's planes.
+#[inline]
 pub(crate) fn within_box(b: &Aabb, ray: &Ray, t: f32) -> bool {
     with_slab!(ray, |slab| slab
         .range(b, f32::NEG_INFINITY, f32::INFINITY)

@@ -75,9 +75,6 @@ pub enum FarmError {
         /// Its index.
         spec: TileSpec,
     },
-    /// Encoding the merged image failed.
-    #[error("encoding the merged image")]
-    Encode(#[source] ::exr::error::Error),
 }
 
 /// `1, 3 and 4`, at most 20 of them.

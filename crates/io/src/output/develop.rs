@@ -12,10 +12,9 @@
 
 use std::path::{Path, PathBuf};
 
-use lumis_core::camera::Camera;
 use lumis_core::film::{DisplayTransform, Film, Tonemap, auto_exposure};
 
-use super::{ExrMetadata, OutputError, encode_exr, encode_png_with};
+use super::{ExrCamera, ExrMetadata, OutputError, encode_exr, encode_png_with};
 
 /// How a film is developed, besides what [`ExrMetadata`] records.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,11 +41,13 @@ pub struct Developed {
 
 /// Exposes `film` in place (unless `meta` says it is a farm tile), checks every sample is
 /// finite, and encodes it as each of `paths` by extension (`.exr`, `.png`, compared
-/// case-insensitively). `meta.exposure` is set to the exposure applied. Writes nothing: the
-/// caller stages the bytes ([`super::StagedOutputs`]) so that a failure leaves no file changed.
+/// case-insensitively). `camera` is what the EXR header records of the camera
+/// ([`ExrCamera::new`] for a render, read back from a tile for a merge). `meta.exposure` is
+/// set to the exposure applied. Writes nothing: the caller stages the bytes
+/// ([`super::StagedOutputs`]) so that a failure leaves no file changed.
 pub fn develop(
     film: &mut Film,
-    camera: &Camera,
+    camera: &ExrCamera,
     paths: &[&Path],
     how: &Develop,
     meta: &mut ExrMetadata,
@@ -95,7 +96,7 @@ pub fn expose(film: &mut Film, fixed: Option<f32>, tile: bool) -> (f32, bool) {
 fn encode(
     path: &Path,
     film: &Film,
-    camera: &Camera,
+    camera: &ExrCamera,
     how: &Develop,
     meta: &ExrMetadata,
 ) -> Result<Vec<u8>, OutputError> {

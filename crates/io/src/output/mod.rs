@@ -1,4 +1,10 @@
-//! Writing a finished [`Film`] to disk: HDR OpenEXR with AOV layers, or a display-referred PNG.
+//! Writing a finished [`Film`] to disk: HDR OpenEXR with AOV layers, or a display-referred PNG,
+//! and reading lumis's own EXR files back.
+//!
+//! [`develop`] is the one way from a rendered film to encoded images (exposure, finite check,
+//! encoding by extension), for `lumis render`, `lumis merge` and the Python package alike.
+//! [`exr`] owns lumis's EXR files both ways: header schema, attribute order, writing, and
+//! reading a file back into a film and the metadata that writes it again ([`ExrFile`]).
 //!
 //! This is the only module that touches image files. Every writer encodes into a temporary file
 //! in the target's directory and renames it over the target only once encoding has succeeded
@@ -17,17 +23,12 @@
 //! display = "srgb"      # PNG only: "srgb" transfer curve or "clamp" (value x 255)
 //! ```
 
-mod aov_layers;
-mod cryptomatte;
 mod develop;
 mod error;
-mod exr;
+pub mod exr;
 mod frame;
-mod header_order;
-mod layout;
 mod png;
 mod preflight;
-mod provenance;
 mod staged;
 mod target;
 mod temps;
@@ -43,22 +44,16 @@ use std::path::Path;
 
 use lumis_core::film::Film;
 
-pub use self::aov_layers::AovLayers;
-pub(crate) use self::exr::half_rgba;
 pub use self::exr::{
-    ATTR_EXPOSURE, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
-    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrMetadata, SOFTWARE,
-    encode_exr, exr_channels, imath_m44f, write_exr,
+    ATTR_EXPOSURE, ATTR_FRAME, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
+    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_SPP,
+    ATTR_SPP_PER_AXIS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_DISPLAY, ATTR_TILE_EXPOSURE,
+    ATTR_TILE_RGBA, AovLayers, ChannelLayout, CryptoHeader, ExrCamera, ExrFile, ExrHeader,
+    ExrImage, ExrMetadata, HeaderValue, ReadError, RenderIdentity, SOFTWARE, TILE_ATTR_PREFIX,
+    TILE_EXPOSURE_AUTO, TileHeader, encode_exr, exr_channels, imath_m44f, read_exr, write_exr,
 };
-pub use self::frame::{ATTR_FRAME, numbered_path};
-pub(crate) use self::header_order::sorted_header;
-pub use self::layout::ChannelLayout;
+pub use self::frame::numbered_path;
 pub use self::png::{encode_png_with, write_png, write_png_with};
-pub use self::provenance::{
-    ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_DISPLAY,
-    ATTR_TILE_EXPOSURE, ATTR_TILE_RGBA, RenderIdentity, TILE_ATTR_PREFIX, TILE_EXPOSURE_AUTO,
-    TileHeader,
-};
 /// The samples of one EXR channel ([`exr_channels`]): half or float.
 pub use ::exr::prelude::FlatSamples as ExrSamples;
 

@@ -1,31 +1,24 @@
-//! Do the tiles belong together? The same render (display window, scene hash, seed, settings
+//! Do the tiles belong together? Compared on the headers as `output::exr` reads them back,
+//! before any pixel is decoded: the same render (display window, scene hash, seed, settings
 //! and every other header attribute but the tile's own, the timing and the Cryptomatte
 //! manifests, which are merged), every tile of the split exactly once, each holding the pixels
 //! the split gives it, none of them stopped early.
 
 use std::collections::BTreeMap;
 
-use ::exr::meta::header::Header;
-use ::exr::prelude::{AttributeValue, LayerAttributes, Text, Vec2};
-
-use super::read::TileFile;
+use super::tile::TileFile;
 use crate::farm::FarmError;
 use crate::output::{
-    ATTR_FRAME, ATTR_PARTIAL, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SCENE_HASH, ATTR_SEED,
-    ATTR_SETTINGS, ATTR_TILE, TILE_ATTR_PREFIX,
+    ATTR_FRAME, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS,
+    ATTR_TILE,
 };
+use crate::output::{ExrHeader, HeaderValue};
 
 /// Whether attribute `name` may differ between the tiles of one render: the index, the
 /// timing, the manifests (merged). The other tile attributes say how to finish the image and
 /// must agree.
 pub fn varies_per_tile(name: &str) -> bool {
     name == ATTR_TILE || name == ATTR_RENDER_SECONDS || is_manifest(name)
-}
-
-/// Whether the merged file leaves out attribute `name` (or writes it anew): the tile's own,
-/// the timing (summed), the manifests (merged).
-pub fn left_out_of_merge(name: &str) -> bool {
-    name.starts_with(TILE_ATTR_PREFIX) || name == ATTR_RENDER_SECONDS || is_manifest(name)
 }
 
 /// A Cryptomatte manifest attribute (`cryptomatte/<key>/manifest`).
@@ -38,15 +31,10 @@ pub fn check_tiles(tiles: &[TileFile]) -> Result<(), FarmError> {
     let first = tiles.first().ok_or(FarmError::NoTiles)?;
     for tile in tiles {
         check_same_render(first, tile)?;
-        if tile
-            .header
-            .own_attributes
-            .other
-            .contains_key(&Text::from(ATTR_PARTIAL))
-        {
+        if tile.file.header().meta.partial {
             return Err(FarmError::Partial {
-                path: tile.path.clone(),
-                spec: tile.spec,
+                path: tile.path().to_path_buf(),
+                spec: tile.spec(),
             });
         }
     }
@@ -55,41 +43,30 @@ pub fn check_tiles(tiles: &[TileFile]) -> Result<(), FarmError> {
 
 /// Every index once, each tile holding the split's window.
 fn check_split(tiles: &[TileFile]) -> Result<(), FarmError> {
-    let count = tiles[0].spec.count;
+    let count = tiles[0].spec().count;
     let mut seen: BTreeMap<u32, &TileFile> = BTreeMap::new();
     for tile in tiles {
-        if let Some(earlier) = seen.insert(tile.spec.index, tile) {
+        let spec = tile.spec();
+        if let Some(earlier) = seen.insert(spec.index, tile) {
             return Err(FarmError::Duplicate {
-                spec: tile.spec,
-                first: earlier.path.clone(),
-                second: tile.path.clone(),
+                spec,
+                first: earlier.path().to_path_buf(),
+                second: tile.path().to_path_buf(),
             });
         }
         let (w, h) = tile.full_size();
-        let want = tile
-            .spec
-            .window(w, h)
-            .map_err(|message| FarmError::Format {
-                path: tile.path.clone(),
-                message,
-            })?;
+        let want = spec.window(w, h).map_err(|message| FarmError::Format {
+            path: tile.path().to_path_buf(),
+            message,
+        })?;
         let got = tile.window();
         if got != want {
             return Err(FarmError::Format {
-                path: tile.path.clone(),
+                path: tile.path().to_path_buf(),
                 message: format!(
                     "tile {} holds pixels x {}..{}, y {}..{}, but tile {} of a {w}x{h} image \
                      is x {}..{}, y {}..{} (a tile must be written by `lumis render --tile`)",
-                    tile.spec,
-                    got.x0,
-                    got.x1,
-                    got.y0,
-                    got.y1,
-                    tile.spec,
-                    want.x0,
-                    want.x1,
-                    want.y0,
-                    want.y1
+                    spec, got.x0, got.x1, got.y0, got.y1, spec, want.x0, want.x1, want.y0, want.y1
                 ),
             });
         }
@@ -104,28 +81,24 @@ fn check_split(tiles: &[TileFile]) -> Result<(), FarmError> {
 /// Everything in `tile`'s header that a single render fixes equals `first`'s.
 fn check_same_render(first: &TileFile, tile: &TileFile) -> Result<(), FarmError> {
     let mismatch = |what: String, detail: String| FarmError::Mismatch {
-        path: tile.path.clone(),
-        first: first.path.clone(),
+        path: tile.path().to_path_buf(),
+        first: first.path().to_path_buf(),
         what,
         detail,
     };
-    let (a, b) = (&first.header, &tile.header);
-    if tile.spec.count != first.spec.count {
+    let (a, b) = (first.file.header(), tile.file.header());
+    if tile.spec().count != first.spec().count {
         return Err(mismatch(
             "the tile count".into(),
-            format!("tile {} against {}", tile.spec, first.spec),
+            format!("tile {} against {}", tile.spec(), first.spec()),
         ));
     }
-    let (da, db) = (
-        &a.shared_attributes.display_window,
-        &b.shared_attributes.display_window,
-    );
-    if da != db {
+    if a.full_size != b.full_size {
         return Err(mismatch(
             "the display window (the image size)".into(),
             format!(
                 "{}x{} against {}x{}",
-                db.size.0, db.size.1, da.size.0, da.size.1
+                b.full_size.0, b.full_size.1, a.full_size.0, a.full_size.1
             ),
         ));
     }
@@ -140,7 +113,7 @@ fn check_same_render(first: &TileFile, tile: &TileFile) -> Result<(), FarmError>
         // The frame poses the scene after it is loaded, so the scene hash cannot see it.
         (ATTR_FRAME, "the frame of the animation (lumis/frame)"),
     ] {
-        let (va, vb) = (attribute(a, name), attribute(b, name));
+        let (va, vb) = (a.attributes.get(name), b.attributes.get(name));
         if va != vb {
             return Err(mismatch(what.into(), settings_detail(vb, va)));
         }
@@ -151,27 +124,17 @@ fn check_same_render(first: &TileFile, tile: &TileFile) -> Result<(), FarmError>
             "its value".into(),
         ));
     }
-    let names = |h: &Header| -> Vec<String> {
-        h.channels
-            .list
-            .iter()
-            .map(|c| format!("{} ({:?})", c.name, c.sample_type))
-            .collect()
-    };
     if a.channels != b.channels {
         return Err(mismatch(
             "the channel list".into(),
-            format!("{} against {}", names(b).join(", "), names(a).join(", ")),
+            format!(
+                "{} against {}",
+                b.channels.join(", "),
+                a.channels.join(", ")
+            ),
         ));
     }
-    if (a.compression, a.line_order) != (b.compression, b.line_order)
-        || a.shared_attributes.pixel_aspect != b.shared_attributes.pixel_aspect
-        || a.shared_attributes.chromaticities != b.shared_attributes.chromaticities
-        || a.shared_attributes.time_code != b.shared_attributes.time_code
-        || !a.shared_attributes.other.is_empty()
-        || !b.shared_attributes.other.is_empty()
-        || standard(&a.own_attributes) != standard(&b.own_attributes)
-    {
+    if a.standard != b.standard {
         return Err(mismatch(
             "the standard header (camera matrices, chromaticities, compression)".into(),
             "one of its attributes".into(),
@@ -181,46 +144,26 @@ fn check_same_render(first: &TileFile, tile: &TileFile) -> Result<(), FarmError>
 }
 
 /// The first custom attribute, in name order, that one header has differently or only.
-fn differing_attribute(a: &Header, b: &Header) -> Option<String> {
+fn differing_attribute(a: &ExrHeader, b: &ExrHeader) -> Option<String> {
     let (ca, cb) = (custom(a), custom(b));
     ca.keys()
         .chain(cb.keys())
         .find(|k| ca.get(*k) != cb.get(*k))
-        .cloned()
+        .map(|k| k.to_string())
 }
 
 /// The custom attributes that must agree, by name.
-fn custom(h: &Header) -> BTreeMap<String, &AttributeValue> {
-    h.own_attributes
-        .other
+fn custom(h: &ExrHeader) -> BTreeMap<&str, &HeaderValue> {
+    h.attributes
         .iter()
-        .map(|(k, v)| (k.to_string(), v))
+        .map(|(k, v)| (k.as_str(), v))
         .filter(|(k, _)| !varies_per_tile(k))
         .collect()
 }
 
-/// The layer's standard attributes, without its position and its custom ones.
-fn standard(attributes: &LayerAttributes) -> LayerAttributes {
-    LayerAttributes {
-        layer_position: Vec2(0, 0),
-        other: Default::default(),
-        ..attributes.clone()
-    }
-}
-
-fn attribute<'h>(header: &'h Header, name: &str) -> Option<&'h AttributeValue> {
-    header.own_attributes.other.get(&Text::from(name))
-}
-
 /// The two values of a differing identity attribute, the settings as their differing lines.
-fn settings_detail(tile: Option<&AttributeValue>, first: Option<&AttributeValue>) -> String {
-    let show = |v: Option<&AttributeValue>| -> String {
-        match v {
-            Some(AttributeValue::Text(t)) => String::from_utf8_lossy(t.bytes()).into_owned(),
-            Some(other) => format!("{other:?}"),
-            None => "absent".into(),
-        }
-    };
+fn settings_detail(tile: Option<&HeaderValue>, first: Option<&HeaderValue>) -> String {
+    let show = |v: Option<&HeaderValue>| v.map_or("absent".to_string(), |v| v.to_string());
     let (t, f) = (show(tile), show(first));
     let lines_t: Vec<&str> = t.lines().collect();
     let lines_f: Vec<&str> = f.lines().collect();

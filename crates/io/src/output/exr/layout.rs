@@ -32,6 +32,15 @@ pub enum ChannelLayout {
 const VIEW_LAYER: &str = "ViewLayer";
 
 impl ChannelLayout {
+    /// Every layout, for a reader to tell which one a file has.
+    pub const ALL: [ChannelLayout; 2] = [Self::Lumis, Self::Blender];
+
+    /// The names of the R, G, B, A channels in this layout: what tells the layouts apart in
+    /// a file, and what a farm tile records in `lumis/tileBeauty`.
+    pub fn beauty(self) -> [String; 4] {
+        ["R", "G", "B", "A"].map(|c| self.channel(c))
+    }
+
     /// The name channel `name` (given in the lumis layout) has in this layout.
     pub fn channel(self, name: &str) -> String {
         match self {
@@ -69,6 +78,16 @@ impl ChannelLayout {
             Self::Blender => format!("{VIEW_LAYER}.{name}"),
         }
     }
+
+    /// The lumis type name (`CryptoObject`) of the recorded Cryptomatte name `recorded`:
+    /// [`Self::crypto_type`] undone; `None` when this layout makes no such name.
+    pub fn crypto_name(self, recorded: &str) -> Option<&str> {
+        let name = match self {
+            Self::Lumis => recorded,
+            Self::Blender => recorded.strip_prefix(VIEW_LAYER)?.strip_prefix('.')?,
+        };
+        (self.crypto_type(name) == recorded).then_some(name)
+    }
 }
 
 /// Blender's pass name for a lumis layer name.
@@ -105,6 +124,15 @@ mod tests {
             assert_eq!(ChannelLayout::Lumis.channel(lumis), lumis);
         }
         assert_eq!(b.crypto_type("CryptoMaterial"), "ViewLayer.CryptoMaterial");
+        assert_eq!(
+            b.crypto_name("ViewLayer.CryptoMaterial"),
+            Some("CryptoMaterial")
+        );
+        assert_eq!(b.crypto_name("CryptoMaterial"), None);
+        assert_eq!(
+            ChannelLayout::Lumis.crypto_name("CryptoObject"),
+            Some("CryptoObject")
+        );
         assert!(b.uv_has_alpha() && !ChannelLayout::Lumis.uv_has_alpha());
     }
 }

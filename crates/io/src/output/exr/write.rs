@@ -1,28 +1,6 @@
-//! OpenEXR output: one single-part scanline image, ZIP16 (lossless), holding the beauty pass
-//! and the AOV layers a compositor needs.
-//!
-//! | channel                 | type          | content                                            |
-//! |-------------------------|---------------|----------------------------------------------------|
-//! | `R`, `G`, `B`, `A`      | HALF or FLOAT | linear, premultiplied RGBA exactly as in the film (exposure already applied) |
-//! | `Z`                     | FLOAT         | camera-space depth along the view axis; `+inf` where the centre ray missed |
-//! | `N.X`, `N.Y`, `N.Z`     | FLOAT         | world-space unit shading normal; 0 where missed    |
-//! | `id.prim`, `id.object`  | FLOAT         | primitive / object index as a float; -1 where missed |
-//!
-//! Optional layers: `albedo`, `P`, `uv` ([`super::aov_layers`], `--aov`), the Cryptomatte
-//! layers and their metadata ([`super::cryptomatte`], `--cryptomatte`); `--layout blender`
-//! renames every channel to Blender's convention ([`super::layout`]).
-//!
-//! The header carries the camera as the standard `worldToCamera` and `worldToNDC` M44f
-//! attributes, so a compositor can project world positions into the image; `chromaticities`
-//! (Rec.709/sRGB primaries, D65 white: the colours are linear sRGB); with depth of field the
-//! standard `focus` (distance to the plane in focus, scene units) and `lumis/lensRadius` (or
-//! `lumis/lensSquareSize`) and `lumis/lensSamples`; and
-//! the sample counts (`lumis/spp` pixel samples in total, `lumis/sppPerAxis`).
-//!
-//! A render of part of the image (`--crop`, `--pixel-bounds`) is stored as that data window
-//! inside the full display window, as OpenEXR intends; the camera matrices are the full
-//! image's. A render stopped early (Ctrl-C) says so in `lumis/partial` = 1; its unfinished
-//! pixels are 0 with alpha 0.
+//! Encoding a [`Film`] as lumis's OpenEXR file (the channels and attributes in the module
+//! docs of `output::exr`), deterministically: the same film, metadata and camera give the same
+//! bytes, which is what lets `lumis merge` rewrite a single render's file.
 
 use std::io::Write;
 use std::path::Path;
@@ -34,103 +12,27 @@ use ::exr::prelude::{
     WritableImage, f16,
 };
 
-use super::aov_layers::{self, AovLayers};
-use super::cryptomatte;
+use super::camera::imath_m44f;
 use super::header_order::sorted_header;
-use super::layout::ChannelLayout;
-use super::provenance::{self, RenderIdentity, TileHeader};
-use super::staged::write_atomically;
-use super::{OutputError, check_not_empty};
-use lumis_core::camera::{Camera, Lens};
+use super::{
+    ATTR_EXPOSURE, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
+    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrCamera, ExrMetadata,
+    HALF_MAX, SOFTWARE, aov_layers, cryptomatte, frame, provenance,
+};
+use crate::output::staged::write_atomically;
+use crate::output::{OutputError, check_not_empty};
+use lumis_core::camera::Lens;
 use lumis_core::film::Film;
-use lumis_core::math::{Mat4, Vec4};
-
-/// Value of the standard `software` attribute and of [`ATTR_RENDERER`]: `"lumis <version>"`.
-pub const SOFTWARE: &str = concat!("lumis ", env!("CARGO_PKG_VERSION"));
-/// Custom string attribute naming the renderer and its version ([`SOFTWARE`]).
-pub const ATTR_RENDERER: &str = "lumis/renderer";
-/// Custom int attribute: pixel samples per pixel in total (`sppPerAxis^2`).
-pub const ATTR_SPP: &str = "lumis/spp";
-/// Custom int attribute: the stratified pixel samples per axis (`--spp`).
-pub const ATTR_SPP_PER_AXIS: &str = "lumis/sppPerAxis";
-/// Custom int attribute: lens rays per pixel sample (only with depth of field).
-pub const ATTR_LENS_SAMPLES: &str = "lumis/lensSamples";
-/// Custom float attribute: the thin lens radius in scene units (only with depth of field).
-pub const ATTR_LENS_RADIUS: &str = "lumis/lensRadius";
-/// Custom float attribute: the side of the `.scn` square lens ("dispersion"), scene units.
-pub const ATTR_LENS_SQUARE: &str = "lumis/lensSquareSize";
-/// Custom int attribute, present (= 1) only when the render was stopped before every tile.
-pub const ATTR_PARTIAL: &str = "lumis/partial";
-/// Custom float attribute: wall-clock render time in seconds.
-pub const ATTR_RENDER_SECONDS: &str = "lumis/renderSeconds";
-/// Custom float attribute: the exposure in stops (EV) the colour was scaled by, `2^EV`.
-pub const ATTR_EXPOSURE: &str = "lumis/exposure";
-
-/// The largest finite half float; RGBA stored as half is clamped to it.
-pub const HALF_MAX: f32 = 65504.0;
-
-/// Render facts written into the EXR header alongside the pixels.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ExrMetadata {
-    /// Store `R,G,B,A` as 32-bit float instead of half. Half covers up to 65504 with ~3
-    /// significant digits, enough for display; float keeps the film's values bit-exact.
-    pub float_rgba: bool,
-    /// Stratified pixel samples per axis (the pixel gets its square); the attributes saturate
-    /// at `i32::MAX` because EXR has no unsigned int attribute.
-    pub spp_per_axis: u32,
-    /// Lens rays per pixel sample (written only when the camera has depth of field).
-    pub lens_samples: u32,
-    /// The `Z` value of pixels whose centre ray escaped: `+inf` by default, or a large
-    /// finite value for compositors whose depth merges break on infinities (`--z-miss`).
-    pub z_miss: f32,
-    /// The render was stopped early; recorded as `lumis/partial`.
-    pub partial: bool,
-    /// Wall-clock render time in seconds, written only when given (`--timing-metadata`): it
-    /// differs between runs, and the same input must give the same bytes by default.
-    pub render_seconds: Option<f32>,
-    /// The exposure in stops already applied to the film's colour ([`lumis_core::film::Film::expose`]);
-    /// recorded, not applied, here.
-    pub exposure: f32,
-    /// The optional AOV layers to write (albedo, position, uv).
-    pub aov_layers: AovLayers,
-    /// The channel naming convention.
-    pub layout: ChannelLayout,
-    /// What the render was made from (scene hash, seed, settings); not written when `None`.
-    pub identity: Option<RenderIdentity>,
-    /// Set for a farm tile (`--tile`): RGBA is then stored as float before exposure, for
-    /// `lumis merge` to finish (see [`super::provenance`]).
-    pub tile: Option<TileHeader>,
-    /// The frame of an animation the image is: `lumis/frame`, `framesPerSecond`, `timeCode`
-    /// ([`super::frame`]); `None` for a still.
-    pub frame: Option<lumis_core::scene::Frame>,
-}
-
-impl Default for ExrMetadata {
-    fn default() -> Self {
-        Self {
-            float_rgba: false,
-            spp_per_axis: 1,
-            lens_samples: 1,
-            render_seconds: None,
-            exposure: 0.0,
-            z_miss: f32::INFINITY,
-            partial: false,
-            aov_layers: AovLayers::default(),
-            layout: ChannelLayout::Lumis,
-            identity: None,
-            tile: None,
-            frame: None,
-        }
-    }
-}
+use lumis_core::math::Vec4;
 
 /// Writes `film` to `path` as OpenEXR (channels and attributes in the module docs), atomically:
-/// the target is replaced only after the whole file has been encoded. `camera` must be the
-/// camera that rendered the film; its matrices are computed for the film's size.
+/// the target is replaced only after the whole file has been encoded. `camera` is what the
+/// header records of the camera that rendered the film ([`ExrCamera::new`] for the film's
+/// full size).
 pub fn write_exr(
     path: &Path,
     film: &Film,
-    camera: &Camera,
+    camera: &ExrCamera,
     meta: &ExrMetadata,
 ) -> Result<(), OutputError> {
     let bytes = encode_exr(path, film, camera, meta)?;
@@ -147,7 +49,7 @@ pub fn write_exr(
 pub fn encode_exr(
     path: &Path,
     film: &Film,
-    camera: &Camera,
+    camera: &ExrCamera,
     meta: &ExrMetadata,
 ) -> Result<Vec<u8>, OutputError> {
     check_not_empty(path, film)?;
@@ -162,7 +64,7 @@ pub fn encode_exr(
     )));
     attributes.chromaticities = Some(REC709_D65);
     let mut image = Image::new(attributes, build_layer(film, camera, meta));
-    super::frame::stamp(&mut image, meta.frame);
+    frame::stamp(&mut image, meta.frame);
     let mut encoded = std::io::Cursor::new(Vec::new());
     image
         .write()
@@ -176,15 +78,6 @@ pub fn encode_exr(
     Ok(sorted_header(&encoded).unwrap_or(encoded))
 }
 
-/// The OpenEXR/Imath M44f memory layout of a glam column-vector matrix.
-///
-/// Imath multiplies row vectors (`p' = p * M`) and stores `M` row-major, so the EXR matrix is
-/// the transpose of glam's `M`; row-major storage of the transpose is exactly glam's
-/// column-major array. The exr crate writes the 16 floats in array order, unchanged.
-pub fn imath_m44f(m: Mat4) -> [f32; 16] {
-    m.to_cols_array()
-}
-
 /// The Rec.709 / sRGB primaries and the D65 white point (CIE 1931 xy), as ITU-R BT.709 gives
 /// them: the colour space of lumis's linear RGB.
 const REC709_D65: Chromaticities = Chromaticities {
@@ -196,7 +89,7 @@ const REC709_D65: Chromaticities = Chromaticities {
 
 /// An RGBA value as half. Half tops out at 65504: a brighter (finite) value would round to
 /// infinity, so it is clamped there; `--float` keeps the film's values.
-pub(crate) fn half_rgba(v: f32) -> f16 {
+fn half_rgba(v: f32) -> f16 {
     f16::from_f32(v.clamp(-HALF_MAX, HALF_MAX))
 }
 
@@ -215,6 +108,7 @@ pub fn exr_channels(film: &Film, meta: &ExrMetadata) -> Vec<(String, FlatSamples
 fn channel_list(film: &Film, meta: &ExrMetadata) -> SmallVec<[AnyChannel<FlatSamples>; 4]> {
     let rgba = film.rgba();
     let aov = film.aov();
+
     let beauty = |component: fn(Vec4) -> f32| {
         let values = rgba.iter().map(|&p| component(p));
         // A tile keeps the film's floats: the merge converts them, as here, after exposure.
@@ -276,19 +170,18 @@ fn channel_list(film: &Film, meta: &ExrMetadata) -> SmallVec<[AnyChannel<FlatSam
 /// Builds the single layer: channels from the film, attributes from the camera and `meta`.
 fn build_layer(
     film: &Film,
-    camera: &Camera,
+    camera: &ExrCamera,
     meta: &ExrMetadata,
 ) -> Layer<AnyChannels<FlatSamples>> {
     let (width, height) = (film.width(), film.height());
-    let (full_width, full_height) = film.full_size();
     let (ox, oy) = film.origin();
-    let dof = camera.has_depth_of_field();
+    let dof = camera.focus.is_some();
     let mut attributes = LayerAttributes {
         layer_position: Vec2(ox as i32, oy as i32),
-        world_to_camera: Some(imath_m44f(camera.world_to_camera())),
-        world_to_normalized_device: Some(imath_m44f(camera.world_to_ndc(full_width, full_height))),
+        world_to_camera: Some(imath_m44f(camera.world_to_camera)),
+        world_to_normalized_device: Some(imath_m44f(camera.world_to_ndc)),
         software_name: Some(Text::from(SOFTWARE)),
-        focus: dof.then(|| camera.focus_distance()),
+        focus: camera.focus,
         ..LayerAttributes::default()
     };
     let int = |n: u64| AttributeValue::I32(i32::try_from(n).unwrap_or(i32::MAX));
@@ -296,7 +189,7 @@ fn build_layer(
     let mut extra = Vec::new();
     if dof {
         extra.push((ATTR_LENS_SAMPLES, int(u64::from(meta.lens_samples))));
-        match camera.lens() {
+        match camera.lens {
             Lens::Disk(r) => extra.push((ATTR_LENS_RADIUS, AttributeValue::F32(r))),
             Lens::Square(s) => extra.push((ATTR_LENS_SQUARE, AttributeValue::F32(s))),
             Lens::Pinhole => {}

@@ -16,15 +16,21 @@
 //! | `lumis/tileBeauty`    | string | the names of the R, G, B, A channels, comma-separated |
 //! | `lumis/tileDisplay`   | string | the PNG display transform of the render: `srgb` or `clamp` |
 //!
+//! Both directions live here: [`attributes`] writes them, [`read_identity`] and [`read_tile`]
+//! read them back.
+//!
 //! A tile's RGBA is the film's linear float before exposure: automatic exposure is a function
 //! of the whole image, so only the merge can compute it, and applying exposure and the half
 //! conversion there, with the same functions as a single render, keeps the merge bit-identical.
 
+use ::exr::meta::header::Header;
 use ::exr::prelude::{AttributeValue, SmallVec, Text};
 
+use super::header::text;
 use super::layout::ChannelLayout;
 use lumis_core::film::DisplayTransform;
 use lumis_core::film::TileSpec;
+use lumis_core::scene::limits::MAX_EXPOSURE;
 
 /// String attribute: SHA-256 (hex) of the scene's input files and load options.
 pub const ATTR_SCENE_HASH: &str = "lumis/sceneHash";
@@ -96,10 +102,7 @@ pub(super) fn attributes(
         let exposure = tile
             .exposure
             .map_or(TILE_EXPOSURE_AUTO.to_string(), |ev| ev.to_string());
-        let beauty: Vec<String> = ["R", "G", "B", "A"]
-            .iter()
-            .map(|c| layout.channel(c))
-            .collect();
+        let beauty = layout.beauty();
         out.push((ATTR_TILE, text(&tile.spec.to_string())));
         out.push((ATTR_TILE_EXPOSURE, text(&exposure)));
         out.push((
@@ -112,4 +115,91 @@ pub(super) fn attributes(
     out.into_iter()
         .map(|(name, value)| (Text::from(name), value))
         .collect()
+}
+
+/// The identity `header` records: `None` when it has none (a file of another program).
+pub(super) fn read_identity(header: &Header) -> Result<Option<RenderIdentity>, String> {
+    let (hash, seed, settings) = (
+        text(header, ATTR_SCENE_HASH),
+        text(header, ATTR_SEED),
+        text(header, ATTR_SETTINGS),
+    );
+    match (hash, seed, settings) {
+        (None, None, None) => Ok(None),
+        (Some(scene_hash), Some(seed), Some(settings)) => Ok(Some(RenderIdentity {
+            scene_hash,
+            seed: seed
+                .parse()
+                .map_err(|_| format!("{ATTR_SEED} = {seed:?}: expected a decimal seed"))?,
+            settings,
+        })),
+        _ => Err(format!(
+            "{ATTR_SCENE_HASH}, {ATTR_SEED} and {ATTR_SETTINGS}: expected all three or none"
+        )),
+    }
+}
+
+/// What a tile's attributes say besides its [`TileHeader`].
+pub(super) struct TileAttributes {
+    /// The tile.
+    pub tile: TileHeader,
+    /// The names of its R, G, B, A channels.
+    pub beauty: Vec<String>,
+    /// The merged file's RGBA is float (`lumis/tileRgba` = `float`), not half.
+    pub float_rgba: bool,
+}
+
+/// The tile attributes of `header`; `None` for a file that is no tile (no `lumis/tile`).
+pub(super) fn read_tile(header: &Header) -> Result<Option<TileAttributes>, String> {
+    let Some(spec) = text(header, ATTR_TILE) else {
+        return Ok(None);
+    };
+    let spec = spec
+        .parse::<TileSpec>()
+        .map_err(|e| format!("{ATTR_TILE} = {spec:?}: {e}"))?;
+    let beauty = text(header, ATTR_TILE_BEAUTY).unwrap_or_default();
+    let beauty: Vec<String> = beauty.split(',').map(str::to_string).collect();
+    if beauty.len() != 4 {
+        return Err(format!(
+            "{ATTR_TILE_BEAUTY} = {:?}: expected the names of its four R, G, B, A channels",
+            beauty.join(",")
+        ));
+    }
+    let exposure = match text(header, ATTR_TILE_EXPOSURE).as_deref() {
+        Some(TILE_EXPOSURE_AUTO) => None,
+        Some(ev) => match ev.parse::<f32>() {
+            Ok(stops) if stops.abs() <= MAX_EXPOSURE => Some(stops),
+            _ => {
+                return Err(format!(
+                    "{ATTR_TILE_EXPOSURE} = {ev:?}: expected auto or stops within +-{MAX_EXPOSURE}"
+                ));
+            }
+        },
+        None => return Err(format!("no {ATTR_TILE_EXPOSURE} attribute")),
+    };
+    let display = text(header, ATTR_TILE_DISPLAY);
+    let display = DisplayTransform::ALL
+        .into_iter()
+        .find(|d| Some(d.name()) == display.as_deref())
+        .ok_or_else(|| {
+            format!("{ATTR_TILE_DISPLAY} = {display:?}: expected \"srgb\" or \"clamp\"")
+        })?;
+    let float_rgba = match text(header, ATTR_TILE_RGBA).as_deref() {
+        Some("half") => false,
+        Some("float") => true,
+        other => {
+            return Err(format!(
+                "{ATTR_TILE_RGBA} = {other:?}: expected \"half\" or \"float\""
+            ));
+        }
+    };
+    Ok(Some(TileAttributes {
+        tile: TileHeader {
+            spec,
+            exposure,
+            display,
+        },
+        beauty,
+        float_rgba,
+    }))
 }
