@@ -1,4 +1,7 @@
-"""Runs the lumis binary: `lumis hits` for ray queries and primitive dumps, `lumis render`."""
+"""lumis for the tools: ray queries and primitive dumps in process through the Python package
+(`import lumis`, distribution lumis-rt, python/) where it is installed, else through the binary
+(`lumis hits`); renders through the binary (`lumis render`). Every tool keeps at least one run
+through the binary (`via="cli"`) so the command's own paths stay covered."""
 
 from __future__ import annotations
 
@@ -112,9 +115,74 @@ class LumisHits:
         return self.rows[:, 5:8].astype(np.float64)
 
 
-def hits(scene, rays: np.ndarray, *, any_hit=False, threads=None, repeat=1, extra=()):
-    """Traces `(N, 8)` float32 rays through `lumis hits`; with `repeat > 1` the timings of every
-    run come back in `.timings` (keys rays, load_s, build_s, trace_s)."""
+def package():
+    """The `lumis` Python package (lumis-rt) where it is installed, else None."""
+    try:
+        import lumis as pkg  # the installed package, not this module (absolute import)
+    except ImportError:
+        return None
+    return pkg if hasattr(pkg, "load") else None
+
+
+# `lumis hits` flags with a keyword argument of `Scene.intersect` / `Scene.occluded`.
+_KEYWORDS = {"--accel": "accel", "--precision": "precision"}
+
+
+def _keywords(extra):
+    """`extra` flags as query keyword arguments, or None when one has no counterpart."""
+    kw, args = {}, [str(a) for a in extra]
+    while args:
+        flag = args.pop(0)
+        name, _, value = flag.partition("=")
+        if name not in _KEYWORDS:
+            return None
+        if not value:
+            if not args:
+                return None
+            value = args.pop(0)
+        kw[_KEYWORDS[name]] = value
+    return kw
+
+
+_scenes: dict = {}
+
+
+def _loaded(pkg, scene):
+    """The package's scene for `scene`, loaded once per process."""
+    key = str(scene)
+    if key not in _scenes:
+        _scenes[key] = pkg.load(key)
+    return _scenes[key]
+
+
+def hits(scene, rays: np.ndarray, *, any_hit=False, threads=None, repeat=1, extra=(), via="auto"):
+    """Traces `(N, 8)` float32 rays (origin, direction, t_min, t_max) as `lumis hits` does.
+
+    `via`: "package" (in process through `import lumis`: the same library function as the
+    command, the same rows bit for bit), "cli" (`lumis hits` in a subprocess), or "auto": the
+    package where it is installed and every `extra` flag has a keyword counterpart, else the
+    command. With `repeat > 1` (timing, the command only) the timings of every run come back in
+    `.timings` (keys rays, load_s, build_s, trace_s). In process, an any-hit row has `t` 0
+    where a blocker was found (the package reports only whether) and inf elsewhere."""
+    pkg = package() if via in ("auto", "package") else None
+    kw = _keywords(extra)
+    if via == "package" and (pkg is None or kw is None):
+        raise SetupError("the lumis Python package is not installed (pip install ./python), "
+                         f"or a flag has no keyword counterpart: {list(extra)}")
+    if pkg is not None and kw is not None and repeat == 1:
+        rays = np.ascontiguousarray(rays, np.float32)
+        s = _loaded(pkg, scene)
+        o, d, t0, t1 = rays[:, 0:3], rays[:, 3:6], rays[:, 6], rays[:, 7]
+        if threads is not None:
+            kw["threads"] = int(threads)
+        if any_hit:
+            blocked = np.asarray(s.occluded(o, d, t0, t1, **kw), bool)
+            # The command's any-hit rows: t, then no ids (-1), zeros, no kind (-1).
+            rows = np.zeros((len(rays), 9), np.float32)
+            rows[:, [1, 2, 8]] = -1.0
+            rows[:, 0] = np.where(blocked, 0.0, np.inf)
+            return LumisHits(rows)
+        return LumisHits(np.asarray(s.intersect(o, d, t0, t1, **kw).rows(), np.float32))
     with tempfile.TemporaryDirectory(prefix="lumis-hits-") as tmp:
         tmp = Path(tmp)
         np.save(tmp / "rays.npy", np.ascontiguousarray(rays, np.float32))
@@ -128,8 +196,13 @@ def hits(scene, rays: np.ndarray, *, any_hit=False, threads=None, repeat=1, extr
         return LumisHits(np.load(tmp / "hits.npy"), json.loads((tmp / "t.json").read_text()))
 
 
-def primitives(scene):
-    """lumis's own view of the scene: triangles `(M, 10)` and spheres `(K, 5)` rows."""
+def primitives(scene, via="auto"):
+    """lumis's own view of the scene: triangles `(M, 10)` and spheres `(K, 5)` rows (in
+    process through the package where installed, unless `via="cli"`)."""
+    pkg = package() if via != "cli" else None
+    if pkg is not None:
+        s = _loaded(pkg, scene)
+        return np.asarray(s.triangles(), np.float32), np.asarray(s.spheres(), np.float32)
     with tempfile.TemporaryDirectory(prefix="lumis-prims-") as tmp:
         tmp = Path(tmp)
         np.save(tmp / "rays.npy", np.zeros((0, 8), np.float32))
