@@ -175,7 +175,7 @@ impl PyScene {
         let key = self.key(accel, precision)?;
         let args = RayArgs::extract(origins, directions, t_min, t_max)?;
         let records = self.query(py, &args, key, threads, false)?;
-        let columns = py.detach(|| HitColumns::new(&records));
+        let columns = py.detach(|| threads::run(threads, || HitColumns::new(&records)))?;
         columns.into_dict(py)
     }
 

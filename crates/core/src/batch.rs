@@ -82,10 +82,16 @@ impl RayBatch for [RayRow] {
 
 /// The first ray of `rays` outside the query domain, with its index and why.
 pub fn check_rays<B: RayBatch + ?Sized>(rays: &B) -> Result<(), (usize, RayError)> {
-    (0..rays.len()).try_for_each(|i| {
-        let r = rays.ray(i);
-        check_ray(r.origin, r.dir, r.t_min, r.t_max).map_err(|e| (i, e))
-    })
+    // In parallel, reporting the smallest bad index as a serial scan would.
+    (0..rays.len())
+        .into_par_iter()
+        .find_map_first(|i| {
+            let r = rays.ray(i);
+            check_ray(r.origin, r.dir, r.t_min, r.t_max)
+                .err()
+                .map(|e| (i, e))
+        })
+        .map_or(Ok(()), Err)
 }
 
 /// Which primitive a hit is on.
