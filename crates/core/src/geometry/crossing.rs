@@ -40,7 +40,7 @@ use std::cmp::Ordering;
 
 use super::conditioning::Shear64;
 use super::exact::edge_sign;
-use super::twofloat::{Dd, diff_f32, two_prod, two_sum};
+use super::twofloat::{two_prod, two_sum};
 use super::{Geometry, PrimHit, Primitive, Sphere, WatertightRay};
 use crate::geometry::Precision;
 use crate::math::{Ray, Vec3};
@@ -261,46 +261,21 @@ struct RootCensus {
     in_range: usize,
 }
 
-/// The census of `s`'s roots along `ray`, with [`Sphere::intersect_double`]'s formulas.
+/// The census of `s`'s roots along `ray`, from [`Sphere::dd_roots`] (the formulas of
+/// [`Sphere::intersect_double`]): a discriminant in the tangency band is a tangent, with no
+/// root in range.
 fn root_census(s: &Sphere, ray: &Ray) -> RootCensus {
-    let o = ray.origin.to_array();
-    let c = s.center.to_array();
-    let d = ray.dir.as_dvec3().to_array();
-    let f: [Dd; 3] = std::array::from_fn(|i| diff_f32(o[i], c[i]));
-    let sum3 = |g: &dyn Fn(usize) -> Dd| g(0).add(g(1)).add(g(2));
-    let a = sum3(&|i| two_prod(d[i], d[i]));
-    let b = sum3(&|i| f[i].mul_f64(d[i]));
-    let cross = |i: usize, j: usize| f[i].mul_f64(d[j]).sub(f[j].mul_f64(d[i]));
-    let cross2 = cross(1, 2)
-        .square()
-        .add(cross(2, 0).square())
-        .add(cross(0, 1).square());
-    let r = s.radius as f64;
-    let r2 = Dd::from_f64(r * r);
-    let disc = a.mul(r2).sub(cross2);
-    let tangent = disc.hi <= super::sphere::TANGENT_BAND * a.hi * r2.hi;
-    if disc.is_negative() || tangent {
-        return RootCensus {
-            tangent,
-            in_range: 0,
-        };
-    }
-    let k = sum3(&|i| f[i].square()).sub(r2);
-    let sq = disc.sqrt();
-    let q = if b.is_negative() {
-        sq.sub(b)
-    } else {
-        b.add(sq).neg()
+    let super::sphere::DdRoots { band, roots } = s.dd_roots(ray);
+    let in_range = match roots {
+        Some((t0, t1)) if !band => {
+            let ok = |t: f32| t > ray.t_min && t <= ray.t_max && t.is_finite();
+            ok(t0) as usize + ok(t1) as usize
+        }
+        _ => 0,
     };
-    let (t0, t1) = if q.hi == 0.0 {
-        (0.0, 0.0)
-    } else {
-        (q.div(a).to_f32(), k.div(q).to_f32())
-    };
-    let ok = |t: f32| t > ray.t_min && t <= ray.t_max && t.is_finite();
     RootCensus {
-        tangent,
-        in_range: ok(t0) as usize + ok(t1) as usize,
+        tangent: band,
+        in_range,
     }
 }
 

@@ -12,7 +12,7 @@ use super::twofloat::{Dd, diff_f32, two_prod, two_sum};
 use crate::math::{Aabb, Ray, Vec3, f32_down, f32_up};
 
 /// Below this fraction of `|d|^2 r^2` the double-double discriminant's sign is not certain.
-pub(super) const TANGENT_BAND: f64 = 1.0 / (1u128 << 95) as f64;
+const TANGENT_BAND: f64 = 1.0 / (1u128 << 95) as f64;
 
 /// A sphere in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -21,6 +21,14 @@ pub struct Sphere {
     pub center: Vec3,
     /// Radius (> 0).
     pub radius: f32,
+}
+
+/// What [`Sphere::dd_roots`] finds along a ray.
+pub(super) struct DdRoots {
+    /// The discriminant lies within its rounding of 0 (or below it).
+    pub(super) band: bool,
+    /// The two roots rounded to `f32`; `None` when the discriminant is negative.
+    pub(super) roots: Option<(f32, f32)>,
 }
 
 impl Sphere {
@@ -133,6 +141,30 @@ impl Sphere {
     /// and each root is rounded once to the nearest f32. Never less accurate than `intersect`
     /// (it is its fallback); about ten times slower. The `--precision double` option.
     pub fn intersect_double(&self, ray: &Ray) -> Option<f32> {
+        let DdRoots { band, roots } = self.dd_roots(ray);
+        let (t0, t1) = roots?;
+        if !band {
+            return nearest_in_range(t0, t1, ray);
+        }
+        let bounds = self.bounds();
+        let inside = |t: f32| crate::math::slab::within_box(&bounds, ray, t);
+        match (inside(t0), inside(t1)) {
+            (true, true) => nearest_in_range(t0, t1, ray),
+            (true, false) => nearest_in_range(t0, t0, ray),
+            (false, true) => nearest_in_range(t1, t1, ray),
+            (false, false) => None,
+        }
+    }
+
+    /// The roots of `ray` against the sphere in double-double arithmetic (the formulas of
+    /// [`Self::intersect_double`]), and whether the discriminant lies in the tangency band,
+    /// within its rounding of 0 (a tangency closer than 2^-95 |d|^2 r^2), where its sign is
+    /// not known: the line may miss the ball, and its box, by a hair. A root in the band counts
+    /// only where it lies inside the sphere's box as the traversals compute it for this ray, so
+    /// no hierarchy culls a hit brute force reports (meeting the box somewhere is not enough: a
+    /// far ray crosses a tiny box within one ulp of `t`, and the root may round past it). The
+    /// all-hits query reads the band as a graze.
+    pub(super) fn dd_roots(&self, ray: &Ray) -> DdRoots {
         let o = ray.origin.to_array();
         let c = self.center.to_array();
         let d = ray.dir.as_dvec3().to_array();
@@ -148,15 +180,10 @@ impl Sphere {
         let r = self.radius as f64;
         let r2 = Dd::from_f64(r * r); // exact
         let disc = a.mul(r2).sub(cross2);
-        if disc.is_negative() {
-            return None;
-        }
-        // Within its rounding of 0 (a tangency closer than 2^-95 |d|^2 r^2) the sign is not
-        // known: the line may miss the ball, and its box, by a hair. A root then counts only
-        // where it lies inside the sphere's box as the traversals compute it for this ray, so no
-        // hierarchy culls a hit brute force reports (meeting the box somewhere is not enough: a
-        // far ray crosses a tiny box within one ulp of `t`, and the root may round past it).
         let band = disc.hi <= TANGENT_BAND * a.hi * r2.hi;
+        if disc.is_negative() {
+            return DdRoots { band, roots: None };
+        }
         let k = sum3(&|i| f[i].square()).sub(r2);
         let sq = disc.sqrt();
         let q = if b.is_negative() {
@@ -165,21 +192,14 @@ impl Sphere {
             b.add(sq).neg()
         };
         // q == 0 only for an origin exactly at the tangent point: both roots are 0.
-        let (t0, t1) = if q.hi == 0.0 {
+        let roots = if q.hi == 0.0 {
             (0.0, 0.0)
         } else {
             (q.div(a).to_f32(), k.div(q).to_f32())
         };
-        if !band {
-            return nearest_in_range(t0, t1, ray);
-        }
-        let bounds = self.bounds();
-        let inside = |t: f32| crate::math::slab::within_box(&bounds, ray, t);
-        match (inside(t0), inside(t1)) {
-            (true, true) => nearest_in_range(t0, t1, ray),
-            (true, false) => nearest_in_range(t0, t0, ray),
-            (false, true) => nearest_in_range(t1, t1, ray),
-            (false, false) => None,
+        DdRoots {
+            band,
+            roots: Some(roots),
         }
     }
 
