@@ -6,6 +6,7 @@
 mod accuracy;
 mod conditioning;
 mod crossing;
+pub(crate) mod edge_bound;
 mod exact;
 mod mesh;
 mod mesh_attributes;

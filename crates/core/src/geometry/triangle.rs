@@ -12,8 +12,9 @@
 //! against a float64 reference).
 
 use super::conditioning::{Shear64, plane_distance};
+use super::edge_bound::{SHEAR_UNDERFLOW, edge_bound, magnitudes};
 use super::exact::edge_sign;
-use crate::math::{Ray, Vec3, Vec3A};
+use crate::math::{Ray, Vec3};
 use std::cmp::Ordering;
 
 /// Per-ray constants of the shear transform, computed once per ray and reused for every
@@ -26,9 +27,9 @@ pub struct WatertightRay {
     pub(crate) sx: f32,
     pub(crate) sy: f32,
     sz: f32,
-    /// Weights of `|v|` (world axes) whose dot product is a vertex's sheared magnitude, scaled
-    /// so the product of two is the edge function's error bound (see [`EDGE_WEIGHT`]).
-    pub(crate) err_w: Vec3A,
+    /// `|sx|`, `|sy|` widened for underflow: the weights of `|(p - o)[kz]|` in a vertex's
+    /// sheared magnitudes ([`magnitudes`]).
+    pub(crate) w: [f32; 2],
 }
 
 impl WatertightRay {
@@ -39,11 +40,6 @@ impl WatertightRay {
         // Arrays, not glam's `Index`, which matches on the index at every access.
         let d = dir.to_array();
         let (sx, sy) = (d[kx] / d[kz], d[ky] / d[kz]);
-        let mut err_w = [EDGE_WEIGHT; 3];
-        // A ratio below the normal range (a direction component 2^126 times smaller than the
-        // largest) rounds by up to 2^-150 absolutely, not relatively: counted as if the ratio
-        // were that much larger (see `SHEAR_UNDERFLOW`).
-        err_w[kz] = (sx.abs() + sy.abs() + SHEAR_UNDERFLOW) * EDGE_WEIGHT;
         Self {
             kx,
             ky,
@@ -51,17 +47,10 @@ impl WatertightRay {
             sx,
             sy,
             sz: 1.0 / d[kz],
-            err_w: Vec3A::from_array(err_w),
+            w: [sx.abs() + SHEAR_UNDERFLOW, sy.abs() + SHEAR_UNDERFLOW],
         }
     }
 }
-
-/// `sqrt(gamma(8))`, rounded up: per-vertex weights whose products are the edge functions'
-/// error bounds. An `f32` edge function of two sheared vertices with magnitudes
-/// `m = |v[kx]| + |v[ky]| + (|sx| + |sy|) |v[kz]|` (each from `v - o`) errs by at most
-/// `gamma(8) m_p m_q`: each sheared coordinate carries ~3 roundings of `m`, the products and
-/// the difference 2 more. A constant, so no square root is taken per ray.
-const EDGE_WEIGHT: f32 = 6.906e-4;
 
 /// The axes of the shear for direction `d`: `kz` the largest component's, `kx`, `ky` the
 /// others, swapped when `d[kz] < 0` so the sheared triangle's winding does not depend on the
@@ -110,23 +99,29 @@ pub fn intersect_triangle(
     let by = ba[ky] - wr.sy * ba[kz];
     let cx = ca[kx] - wr.sx * ca[kz];
     let cy = ca[ky] - wr.sy * ca[kz];
-    let e0 = cx * by - cy * bx;
-    let e1 = ax * cy - ay * cx;
-    let e2 = bx * ay - by * ax;
+    let (cx_by, cy_bx) = (cx * by, cy * bx);
+    let (ax_cy, ay_cx) = (ax * cy, ay * cx);
+    let (bx_ay, by_ax) = (bx * ay, by * ax);
+    let e0 = cx_by - cy_bx;
+    let e1 = ax_cy - ay_cx;
+    let e2 = bx_ay - by_ax;
     // An edge function within its rounding error of 0 (the ray passes near that edge, or
     // grazes the plane) is re-evaluated from an f64 shear; the decision and the value depend
     // only on the ray and the edge, so neighbours agree and the test stays watertight.
-    // Each vertex's sheared magnitude, pre-scaled so a product of two is the edge's bound.
-    let m = |v: Vec3| Vec3A::from(v).abs().dot(wr.err_w) + PRODUCT_UNDERFLOW;
-    let (ma, mb, mc) = (m(a), m(b), m(c));
+    let k = [kx, ky, kz];
+    let (ma, mb, mc) = (
+        magnitudes(aa, k, wr.w),
+        magnitudes(ba, k, wr.w),
+        magnitudes(ca, k, wr.w),
+    );
     // Written `!(|e| > bound)` so that a NaN (an overflowed product, `inf - inf`: only for
     // coordinates beyond the scene limits) is refined too, in f64, where no product of f32
     // inputs overflows; it would otherwise pass the sign test below as "not outside".
     #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must compare as "within the bound"
     let refine = [
-        !(e0.abs() > mb * mc + UNDERFLOW),
-        !(e1.abs() > mc * ma + UNDERFLOW),
-        !(e2.abs() > ma * mb + UNDERFLOW),
+        !(e0.abs() > edge_bound([cx_by, cy_bx], [cx, cy], [bx, by], mc, mb)),
+        !(e1.abs() > edge_bound([ax_cy, ay_cx], [ax, ay], [cx, cy], ma, mc)),
+        !(e2.abs() > edge_bound([bx_ay, by_ax], [bx, by], [ax, ay], mb, ma)),
     ];
     if refine[0] | refine[1] | refine[2] {
         return rare_refined_hit(ray, [kx, ky, kz], [p0, p1, p2], [e0, e1, e2], refine);
@@ -157,23 +152,6 @@ pub fn intersect_triangle(
         v: e2 * inv_det,
     })
 }
-
-/// Added to the shear ratios' weight: an underflowed ratio errs by up to 2^-150, which moves a
-/// sheared coordinate by `2^-150 |z|`; the edge bound, a product of two weights times
-/// `gamma(8)`, covers that when each ratio counts `2^-150 * 2 / gamma(8)` more (< 2^-127).
-const SHEAR_UNDERFLOW: f32 = f32::from_bits(0x0040_0000); // 2^-127
-
-/// Added to each vertex's weighted magnitude: a product `s * z` below the normal range errs by
-/// up to 2^-150 absolutely, and an edge function multiplies that sheared coordinate by another
-/// vertex's (at most its magnitude over `EDGE_WEIGHT`); `(m_a + e)(m_b + e)` covers both
-/// products' errors when `e >= 2^-149 / EDGE_WEIGHT` (< 2^-138).
-pub(crate) const PRODUCT_UNDERFLOW: f32 = f32::from_bits(0x0800); // 2^-138
-
-/// The absolute error an `f32` edge function can gain where its products fall below the
-/// normal range (each rounds by up to half the smallest subnormal, 2^-150; with the
-/// difference, 2^-148), doubled: what the relative bound alone misses for triangles of
-/// ~1e-19 and smaller.
-pub(crate) const UNDERFLOW: f32 = f32::from_bits(4);
 
 /// The edges [`intersect_triangle`] could not decide in `f32` (`refine`), or all three: each
 /// re-evaluated from the `f64` shear, and where that too lies within its rounding of 0, decided
@@ -224,6 +202,23 @@ fn refined_hit(
         u: (e1 / det) as f32,
         v: (e2 / det) as f32,
     })
+}
+
+/// The end of [`intersect_triangle`] for a triangle whose three `f32` edge functions all lie
+/// outside their bounds, agree in sign, and sum to a normal determinant, with `u`, `v` computed
+/// from them as it does: the hit, `None` when its distance is out of range, or `Err(())` when
+/// the plane form fails, where `intersect_triangle` itself must finish (rare: a plane whose
+/// compensated denominator vanishes). Lets a SIMD pass over several triangles that has
+/// already made every decision up to here skip repeating them.
+#[inline(always)]
+pub(crate) fn finish_decided_hit(
+    ray: &Ray,
+    [p0, p1, p2]: [Vec3; 3],
+    u: f32,
+    v: f32,
+) -> Result<Option<TriangleHit>, ()> {
+    let t = plane_distance(ray, p0, p1, p2).ok_or(())?;
+    Ok(in_range(t, ray).then_some(TriangleHit { t, u, v }))
 }
 
 /// [`refined_hit`] where the `f32` test needs it, kept out of its way.
@@ -294,12 +289,6 @@ mod tests {
     fn hit(o: Vec3, d: Vec3, p: [Vec3; 3]) -> Option<TriangleHit> {
         let r = Ray::new(o, d);
         intersect_triangle(&r, &WatertightRay::new(d), p[0], p[1], p[2])
-    }
-
-    #[test]
-    fn edge_weight_covers_the_edge_error_bound() {
-        let g = crate::math::gamma(8);
-        assert!(EDGE_WEIGHT * EDGE_WEIGHT >= g && EDGE_WEIGHT * EDGE_WEIGHT <= 1.001 * g);
     }
 
     #[test]

@@ -1,0 +1,196 @@
+//! Triangles copied into the wide hierarchy's leaf order, four to a group, one SSE register
+//! per vertex coordinate, so a leaf's triangles are tested without chasing mesh indices.
+//!
+//! A group's four triangles are decided together in SIMD ([`classify`]) with the scalar
+//! watertight test's own operations: lanes whose edge signs disagree are rejected, lanes that
+//! are clean hits on the triangle's line get their barycentrics there and need only the `f64`
+//! plane distance and the range check ([`finish_decided_hit`]), and the rest (an edge within its
+//! rounding bound, a determinant out of range, a sphere) go through [`intersect_triangle`]
+//! whole. Every answer is the per-primitive path's, bit for bit.
+//!
+//! The ray's shear (three divisions) is set up at the first leaf the ray reaches, so rays that
+//! miss every leaf never pay for it.
+
+mod classify;
+
+use super::leaves::{AnyLeaves, ClosestLeaves};
+use super::{Closest, LEAF_ALIGN, PADDING, TraversalStats};
+use crate::geometry::triangle::{
+    TriangleHit, WatertightRay, finish_decided_hit, intersect_triangle,
+};
+use crate::geometry::{Geometry, PrimHit, Primitive};
+use crate::math::{Ray, Vec3};
+use classify::GroupTest;
+
+/// Lanes per group: the wide hierarchy aligns its leaves to this.
+const LANES: usize = LEAF_ALIGN;
+
+/// Four triangles: `v[3 * k + axis][lane]` is coordinate `axis` of vertex `k`. Lanes that hold
+/// no triangle (a sphere, or padding) are NaN, which the filter never rejects.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(16))]
+struct Group {
+    v: [[f32; LANES]; 9],
+    /// The primitive of each lane, so a candidate needs no look-up in `prim_order`.
+    prim: [u32; LANES],
+}
+
+/// A scene's triangles in the order of one hierarchy's `prim_order`.
+#[derive(Clone, Debug)]
+pub struct PackedLeaves {
+    groups: Vec<Group>,
+}
+
+impl PackedLeaves {
+    /// Packs the triangles of `geometry` in the order `prim_order` (whose leaves start at
+    /// multiples of [`LEAF_ALIGN`] and whose length is one too).
+    pub fn new(geometry: &Geometry, prim_order: &[u32]) -> Self {
+        let groups = prim_order
+            .chunks(LANES)
+            .map(|chunk| {
+                let mut g = Group {
+                    v: [[f32::NAN; LANES]; 9],
+                    prim: [PADDING; LANES],
+                };
+                for (lane, &p) in chunk.iter().enumerate() {
+                    g.prim[lane] = p;
+                    if p == PADDING {
+                        continue;
+                    }
+                    if let Primitive::Triangle { mesh, tri } = geometry.prims()[p as usize] {
+                        let corners = geometry.meshes()[mesh as usize].corners(tri);
+                        for (k, c) in corners.iter().enumerate() {
+                            for axis in 0..3 {
+                                g.v[3 * k + axis][lane] = c[axis];
+                            }
+                        }
+                    }
+                }
+                g
+            })
+            .collect();
+        Self { groups }
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of_val(self.groups.as_slice())
+    }
+}
+
+/// The watertight test over packed leaves, for one ray.
+pub(crate) struct PackedWatertight<'a> {
+    packed: &'a PackedLeaves,
+    geometry: &'a Geometry,
+    /// The shear and the group test's constants, from the first leaf on.
+    shear: Option<(WatertightRay, GroupTest)>,
+}
+
+impl<'a> PackedWatertight<'a> {
+    /// The test over `packed`, built from `geometry` (which holds the spheres).
+    #[inline(always)]
+    pub(crate) fn new(packed: &'a PackedLeaves, geometry: &'a Geometry, _ray: &Ray) -> Self {
+        Self {
+            packed,
+            geometry,
+            shear: None,
+        }
+    }
+
+    /// Calls `f(prim, hit)` for every hit in the leaf at `first` with `prims.len()` entries,
+    /// tested against `ray(), whose `t_max` may shrink as `f` goes on, until `f` says stop.
+    #[inline(always)]
+    fn each_hit(
+        &mut self,
+        first: u32,
+        count: usize,
+        ray: &Ray,
+        mut f: impl FnMut(u32, PrimHit) -> Option<Ray>,
+    ) {
+        let (wr, test) = *self.shear.get_or_insert_with(|| {
+            let wr = WatertightRay::new(ray.dir);
+            (wr, GroupTest::new(ray, &wr))
+        });
+        let mut ray = *ray;
+        let mut left = count;
+        let mut g = first as usize / LANES;
+        while left > 0 {
+            let lanes = left.min(LANES);
+            let group = &self.packed.groups[g];
+            let decided = test.decide(group, (1 << lanes) - 1);
+            let mut mask = decided.line_hits | decided.scalar;
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let prim = group.prim[lane];
+                let v = &group.v;
+                let p = [0, 1, 2]
+                    .map(|k| Vec3::new(v[3 * k][lane], v[3 * k + 1][lane], v[3 * k + 2][lane]));
+                let decided_hit = if decided.line_hits & (1 << lane) != 0 {
+                    finish_decided_hit(&ray, p, decided.u[lane], decided.v[lane]).ok()
+                } else {
+                    None
+                };
+                let hit = match decided_hit {
+                    Some(h) => h.and_then(|h| self.alpha(prim, h)),
+                    // Not a triangle: the geometry's own test (a sphere).
+                    None if v[0][lane].is_nan() => self.geometry.intersect(prim, &ray, &wr),
+                    None => intersect_triangle(&ray, &wr, p[0], p[1], p[2])
+                        .and_then(|h| self.alpha(prim, h)),
+                };
+                if let Some(h) = hit {
+                    match f(prim, h) {
+                        Some(next) => ray = next,
+                        None => return,
+                    }
+                }
+            }
+            left -= lanes;
+            g += 1;
+        }
+    }
+
+    /// A triangle that passes the exact test must pass its mesh's alpha test too, as in
+    /// `Geometry::intersect`.
+    #[inline(always)]
+    fn alpha(&self, prim: u32, h: TriangleHit) -> Option<PrimHit> {
+        // Written out, not `Option::filter`: across the crate split rustc stopped inlining that
+        // generic call here (+88 M instructions on tumbledStones, callgrind).
+        if self.geometry.alpha_passes(prim, h.u, h.v) {
+            Some(h.into())
+        } else {
+            None
+        }
+    }
+}
+
+impl ClosestLeaves for PackedWatertight<'_> {
+    #[inline(always)]
+    fn closest(
+        &mut self,
+        first: u32,
+        prims: &[u32],
+        closest: &mut Closest,
+        stats: &mut TraversalStats,
+    ) {
+        stats.prim_tests += prims.len() as u64;
+        let ray = closest.ray;
+        self.each_hit(first, prims.len(), &ray, |prim, h| {
+            closest.offer(prim, h);
+            Some(closest.ray)
+        });
+    }
+}
+
+impl AnyLeaves for PackedWatertight<'_> {
+    #[inline(always)]
+    fn any(&mut self, first: u32, prims: &[u32], ray: &Ray, stats: &mut TraversalStats) -> bool {
+        stats.prim_tests += prims.len() as u64;
+        let mut blocked = false;
+        self.each_hit(first, prims.len(), ray, |_, _| {
+            blocked = true;
+            None
+        });
+        blocked
+    }
+}
