@@ -224,38 +224,60 @@ pub fn trace_all_hits<B: RayBatch + ?Sized>(world: &World, rays: &B) -> Vec<AllH
 /// first blocker met. Rays must be inside the domain ([`check_rays`]). The result does not
 /// depend on the thread count. Primitives are intersected with the scene's `precision`.
 pub fn trace_rays<B: RayBatch + ?Sized>(world: &World, rays: &B, any_hit: bool) -> Vec<HitRecord> {
-    trace_all(rays, |ray, stats| record(world, ray, any_hit, stats))
+    let mut records = Vec::new();
+    trace_rays_into(world, rays, any_hit, &mut records);
+    records
+}
+
+/// [`trace_rays`] into `records`, replacing what it held and reusing its allocation: a caller
+/// tracing batch after batch (or timing repeats) pays for the memory once, not its page faults
+/// on every batch.
+pub fn trace_rays_into<B: RayBatch + ?Sized>(
+    world: &World,
+    rays: &B,
+    any_hit: bool,
+    records: &mut Vec<HitRecord>,
+) {
+    trace_all(
+        rays,
+        |ray, stats| record(world, ray, any_hit, stats),
+        records,
+    )
 }
 
 /// For every ray, the spawn origins of its hit (see the module docs); rays that miss get `inf`.
 pub fn spawn_rows<B: RayBatch + ?Sized>(world: &World, rays: &B) -> Vec<[f32; SPAWN_COLUMNS]> {
     let offset = world.scene().settings().offset;
-    trace_all(rays, |ray, stats| match world.intersect(ray, stats) {
-        None => [f32::INFINITY; SPAWN_COLUMNS],
-        Some(hit) => {
-            let back = hit.surface.spawn_origin(-ray.dir, offset);
-            let through = hit.surface.spawn_origin(ray.dir, offset);
-            [back.x, back.y, back.z, through.x, through.y, through.z]
-        }
-    })
+    let mut rows = Vec::new();
+    trace_all(
+        rays,
+        |ray, stats| match world.intersect(ray, stats) {
+            None => [f32::INFINITY; SPAWN_COLUMNS],
+            Some(hit) => {
+                let back = hit.surface.spawn_origin(-ray.dir, offset);
+                let through = hit.surface.spawn_origin(ray.dir, offset);
+                [back.x, back.y, back.z, through.x, through.y, through.z]
+            }
+        },
+        &mut rows,
+    );
+    rows
 }
 
-/// Runs `f` over every ray in parallel chunks, keeping the input order.
+/// Runs `f` over every ray in parallel chunks into `out` (replacing its contents, keeping its
+/// allocation when large enough), in the input order. The records are written straight into
+/// the one result vector (rayon's indexed collect), not gathered per chunk and copied: on 200k
+/// rays that missed, the copy and its page faults took longer than the queries.
 fn trace_all<B: RayBatch + ?Sized, T: Send>(
     rays: &B,
     f: impl Fn(&Ray, &mut TraversalStats) -> T + Sync,
-) -> Vec<T> {
-    let n = rays.len();
-    let chunks: Vec<Vec<T>> = (0..n.div_ceil(CHUNK))
+    out: &mut Vec<T>,
+) {
+    (0..rays.len())
         .into_par_iter()
-        .map(|c| {
-            let mut stats = TraversalStats::default();
-            (c * CHUNK..n.min((c + 1) * CHUNK))
-                .map(|i| f(&rays.ray(i), &mut stats))
-                .collect()
-        })
-        .collect();
-    chunks.into_iter().flatten().collect()
+        .with_min_len(CHUNK)
+        .map_init(TraversalStats::default, |stats, i| f(&rays.ray(i), stats))
+        .collect_into_vec(out);
 }
 
 /// The record of one ray: the scene's own nearest-hit query, or for `any_hit` only the
@@ -283,8 +305,12 @@ fn record(world: &World, ray: &Ray, any_hit: bool, stats: &mut TraversalStats) -
         object: Some(scene.object_of(prim)),
         u: hit.u,
         v: hit.v,
-        normal: g.geometric_normal(prim, &traced.ray, &hit),
-        kind: Some(g.prims()[prim as usize].into()),
+        normal: world.geometric_normal(&traced),
+        // A hit from the packed leaves is a triangle; only others read the primitive list.
+        kind: Some(match traced.slot {
+            Some(_) => PrimKind::Triangle,
+            None => g.prims()[prim as usize].into(),
+        }),
     }
 }
 

@@ -14,6 +14,7 @@ pub mod cryptomatte;
 pub mod effects;
 pub mod film;
 pub mod geometry;
+mod huge_pages;
 pub mod integrator;
 pub mod light;
 pub mod material;

@@ -10,7 +10,9 @@
 //! the surface, 0 for a crossing). A ray without hits has no row. Indices are exact up to 2^24.
 
 use super::records::{HitsError, stage_rows};
-use lumis_core::batch::{AllHitRecord, HitRecord, RayRow, trace_all_hits, trace_rays};
+use lumis_core::batch::{
+    AllHitRecord, HitRecord, RayRow, trace_all_hits, trace_rays, trace_rays_into,
+};
 use lumis_core::scene::World;
 use lumis_io::output::StagedOutputs;
 use std::path::Path;
@@ -25,12 +27,17 @@ pub enum HitRows {
 
 impl HitRows {
     /// Traces `rays` through `world` on the current rayon pool: every hit with `all`, else
-    /// [`trace_rays`]. The result does not depend on the thread count.
-    pub fn trace(world: &World, rays: &[RayRow], any_hit: bool, all: bool) -> Self {
-        if all {
-            Self::All(trace_all_hits(world, rays))
-        } else {
-            Self::Nearest(trace_rays(world, rays, any_hit))
+    /// [`trace_rays`]; the result does not depend on the thread count. Into this value's memory
+    /// where it can (`--repeat`: each run after the first then times the queries, not fresh
+    /// page faults for the records).
+    pub fn retrace(self, world: &World, rays: &[RayRow], any_hit: bool, all: bool) -> Self {
+        match (self, all) {
+            (_, true) => Self::All(trace_all_hits(world, rays)),
+            (Self::Nearest(mut records), false) => {
+                trace_rays_into(world, rays, any_hit, &mut records);
+                Self::Nearest(records)
+            }
+            (Self::All(_), false) => Self::Nearest(trace_rays(world, rays, any_hit)),
         }
     }
 

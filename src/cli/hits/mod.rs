@@ -95,7 +95,7 @@ pub fn run(args: &HitsArgs) -> Result<()> {
         let mut trace_s = Vec::with_capacity(args.repeat as usize);
         for _ in 0..args.repeat {
             let start = Instant::now();
-            hits = HitRows::trace(&world, &rays, args.any_hit, args.all);
+            hits = hits.retrace(&world, &rays, args.any_hit, args.all);
             trace_s.push(start.elapsed().as_secs_f64());
         }
         (world, build_s, hits, trace_s)

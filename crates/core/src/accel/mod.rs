@@ -149,8 +149,9 @@ impl Closest {
         }
     }
 
+    /// Takes `hit` on `prim` when it is nearer (or as near, on a lower index); says whether.
     #[inline(always)]
-    pub fn offer(&mut self, prim: u32, hit: PrimHit) {
+    pub fn offer(&mut self, prim: u32, hit: PrimHit) -> bool {
         let better = match self.best {
             None => true,
             Some(b) => hit.t < b.hit.t || (hit.t == b.hit.t && prim < b.prim),
@@ -159,6 +160,7 @@ impl Closest {
             self.best = Some(Hit { prim, hit });
             self.ray.t_max = hit.t;
         }
+        better
     }
 }
 
@@ -240,6 +242,14 @@ impl Accel {
             (Structure::Wide(w), Some(p)) => Some((w, p)),
             _ => None,
         }
+    }
+
+    /// The corners of the triangle at `slot` of the packed leaves (see [`Traced::slot`]):
+    /// bit-identical copies of the mesh's, read from where the walk just was instead of through
+    /// the mesh's index buffer (on the 1.1M-triangle bunny those reads took a quarter of a
+    /// `lumis hits` query's time).
+    pub fn packed_corners(&self, slot: u32) -> Option<[crate::math::Vec3; 3]> {
+        self.packed.as_ref()?.corners(slot)
     }
 
     /// Where this accelerator traces queries from: the scene's bounds and near region.

@@ -4,6 +4,7 @@
 //! far away (the hit's `t` is then mapped back to the caller's ray), or not at all.
 
 use super::PackedWatertight;
+use super::packed::NO_SLOT;
 use super::{Accel, Hit, PrimHit, Structure, Traversal, TraversalStats, leaves};
 use crate::geometry::{Geometry, Precision, with_prim_test};
 use crate::math::Ray;
@@ -18,12 +19,15 @@ pub struct Traced {
     pub ray: Ray,
     /// The hit's `t` on the caller's ray.
     pub t: f32,
+    /// Where the hit triangle lies in the packed leaves, when it was found there
+    /// ([`Accel::packed_corners`] reads its corners); `None` otherwise (and for spheres).
+    pub slot: Option<u32>,
 }
 
 impl Traced {
     /// A hit found on `ray`, whose caller's `t` is `t`.
     #[inline(always)]
-    fn on(ray: &Ray, hit: Hit, t: f32) -> Self {
+    fn on(ray: &Ray, (hit, slot): (Hit, Option<u32>), t: f32) -> Self {
         Self {
             hit,
             ray: Ray {
@@ -31,6 +35,7 @@ impl Traced {
                 ..*ray
             },
             t,
+            slot,
         }
     }
 
@@ -72,8 +77,8 @@ impl Accel {
         stats: &mut TraversalStats,
     ) -> Option<Traced> {
         if self.frame.holds(ray.origin) {
-            let hit = self.nearest_in_geometry(geometry, precision, ray, stats)?;
-            return Some(Traced::on(ray, hit, hit.hit.t));
+            let found = self.nearest_in_geometry(geometry, precision, ray, stats)?;
+            return Some(Traced::on(ray, found, found.0.hit.t));
         }
         self.trace_far(geometry, precision, ray, stats)
     }
@@ -90,10 +95,12 @@ impl Accel {
     ) -> Option<Traced> {
         let framing = self.frame.frame(ray);
         let local = framing.ray(ray)?;
-        let hit = self.nearest_in_geometry(geometry, precision, local, stats)?;
-        Some(Traced::on(local, hit, framing.caller_t(hit.hit.t)?))
+        let found = self.nearest_in_geometry(geometry, precision, local, stats)?;
+        let t = framing.caller_t(found.0.hit.t)?;
+        Some(Traced::on(local, found, t))
     }
 
+    /// The nearest hit, and its slot in the packed leaves when it was found there.
     #[inline(always)]
     fn nearest_in_geometry(
         &self,
@@ -101,13 +108,16 @@ impl Accel {
         precision: Precision,
         ray: &Ray,
         stats: &mut TraversalStats,
-    ) -> Option<Hit> {
+    ) -> Option<(Hit, Option<u32>)> {
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
-            return wide.intersect(ray, stats, PackedWatertight::new(packed, geometry, ray));
+            let mut test = PackedWatertight::new(packed, geometry, ray);
+            let hit = wide.intersect(ray, stats, &mut test)?;
+            return Some((hit, (test.best_slot != NO_SLOT).then_some(test.best_slot)));
         }
         // One traversal instantiation per precision, chosen once per ray.
-        with_prim_test!(geometry, precision, ray, |test| self
-            .nearest(ray, stats, test))
+        let hit = with_prim_test!(geometry, precision, ray, |test| self
+            .nearest(ray, stats, test))?;
+        Some((hit, None))
     }
 
     /// True when a primitive of `geometry` blocks `ray` (see [`Accel::intersect_geometry`]).
@@ -204,7 +214,7 @@ impl Accel {
         match (&self.structure, &self.traversal) {
             (Structure::Brute(b), _) => b.intersect(ray, stats, test),
             // Only ever walked in order: `with_traversal` unfolds it for the others.
-            (Structure::Wide(w), _) => w.intersect(ray, stats, leaves::PerPrim(test)),
+            (Structure::Wide(w), _) => w.intersect(ray, stats, &mut leaves::PerPrim(test)),
             (Structure::Bvh(b), Traversal::Ordered) => b.intersect(ray, stats, test),
             (Structure::Bvh(b), Traversal::Segments(p)) => {
                 b.intersect_segments(ray, p, stats, test)

@@ -13,7 +13,7 @@ use crate::material::Material;
 #[derive(Clone, Debug)]
 pub struct SceneBuilder {
     geometry: Geometry,
-    prim_object: Vec<u32>,
+    object_starts: Vec<u32>,
     objects: Vec<Object>,
     materials: Vec<Material>,
     material_names: Vec<String>,
@@ -37,7 +37,7 @@ impl SceneBuilder {
     pub fn new() -> Self {
         Self {
             geometry: Geometry::new(),
-            prim_object: Vec::new(),
+            object_starts: Vec::new(),
             objects: Vec::new(),
             materials: Vec::new(),
             material_names: Vec::new(),
@@ -133,7 +133,9 @@ impl SceneBuilder {
     fn push_object(&mut self, name: String, material: u32, prims: usize) -> u32 {
         let id = self.objects.len() as u32;
         self.objects.push(Object { name, material });
-        self.prim_object.extend(std::iter::repeat_n(id, prims));
+        // Objects own consecutive primitives, added in order: the first of each is enough.
+        self.object_starts
+            .push((self.geometry.prims().len() - prims) as u32);
         id
     }
 
@@ -157,7 +159,7 @@ impl SceneBuilder {
         }
         Ok(Scene {
             geometry: self.geometry,
-            prim_object: self.prim_object,
+            object_starts: self.object_starts,
             objects: self.objects,
             materials: self.materials,
             material_names: self.material_names,

@@ -7,8 +7,9 @@
 use super::{Interaction, Scene, Settings};
 use crate::accel::{Accel, AccelKind, BuildOptions, Hit, Traced, Traversal, TraversalStats};
 use crate::camera::Camera;
+use crate::geometry::triangle::face_normal;
 use crate::geometry::with_prim_test;
-use crate::math::Ray;
+use crate::math::{Ray, Vec3};
 
 /// A scene and the accelerator over its primitives: what renders and ray queries take.
 #[derive(Clone, Debug)]
@@ -73,6 +74,17 @@ impl World {
         let precision = self.scene.settings().precision;
         self.accel
             .trace_geometry(self.scene.geometry(), precision, ray, stats)
+    }
+
+    /// The unit geometric normal of a traced hit (see `Geometry::geometric_normal`): from the
+    /// packed leaves' copy of the triangle when the hit was found there, the same bits, without
+    /// the dependent reads of the primitive list, the index buffer and the vertices.
+    pub fn geometric_normal(&self, traced: &Traced) -> Vec3 {
+        let g = self.scene.geometry();
+        match traced.slot.and_then(|s| self.accel.packed_corners(s)) {
+            Some([p0, p1, p2]) => face_normal(p0, p1, p2).normalize_or(Vec3::Y),
+            None => g.geometric_normal(traced.hit.prim, &traced.ray, &traced.hit.hit),
+        }
     }
 
     /// The interaction of a traced hit: its surface computed on the ray it was found on, with

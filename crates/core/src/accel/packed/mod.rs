@@ -45,31 +45,39 @@ impl PackedLeaves {
     /// Packs the triangles of `geometry` in the order `prim_order` (whose leaves start at
     /// multiples of [`LEAF_ALIGN`] and whose length is one too).
     pub fn new(geometry: &Geometry, prim_order: &[u32]) -> Self {
-        let groups = prim_order
-            .chunks(LANES)
-            .map(|chunk| {
-                let mut g = Group {
-                    v: [[f32::NAN; LANES]; 9],
-                    prim: [PADDING; LANES],
-                };
-                for (lane, &p) in chunk.iter().enumerate() {
-                    g.prim[lane] = p;
-                    if p == PADDING {
-                        continue;
-                    }
-                    if let Primitive::Triangle { mesh, tri } = geometry.prims()[p as usize] {
-                        let corners = geometry.meshes()[mesh as usize].corners(tri);
-                        for (k, c) in corners.iter().enumerate() {
-                            for axis in 0..3 {
-                                g.v[3 * k + axis][lane] = c[axis];
-                            }
+        let mut groups = crate::huge_pages::vec_with_capacity(prim_order.len().div_ceil(LANES));
+        groups.extend(prim_order.chunks(LANES).map(|chunk| {
+            let mut g = Group {
+                v: [[f32::NAN; LANES]; 9],
+                prim: [PADDING; LANES],
+            };
+            for (lane, &p) in chunk.iter().enumerate() {
+                g.prim[lane] = p;
+                if p == PADDING {
+                    continue;
+                }
+                if let Primitive::Triangle { mesh, tri } = geometry.prims()[p as usize] {
+                    let corners = geometry.meshes()[mesh as usize].corners(tri);
+                    for (k, c) in corners.iter().enumerate() {
+                        for axis in 0..3 {
+                            g.v[3 * k + axis][lane] = c[axis];
                         }
                     }
                 }
-                g
-            })
-            .collect();
+            }
+            g
+        }));
         Self { groups }
+    }
+
+    /// The corners of the triangle at `slot` (its position in the leaf order), if one is there.
+    pub(crate) fn corners(&self, slot: u32) -> Option<[Vec3; 3]> {
+        let (g, lane) = (slot as usize / LANES, slot as usize % LANES);
+        let v = &self.groups.get(g)?.v;
+        if v[0][lane].is_nan() {
+            return None;
+        }
+        Some([0, 1, 2].map(|k| Vec3::new(v[3 * k][lane], v[3 * k + 1][lane], v[3 * k + 2][lane])))
     }
 
     /// Bytes held.
@@ -84,7 +92,12 @@ pub(crate) struct PackedWatertight<'a> {
     geometry: &'a Geometry,
     /// The shear and the group test's constants, from the first leaf on.
     shear: Option<(WatertightRay, GroupTest)>,
+    /// Where in the leaf order the best hit so far lies ([`NO_SLOT`] before one).
+    pub(crate) best_slot: u32,
 }
+
+/// [`PackedWatertight::best_slot`] of a query without a hit.
+pub(crate) const NO_SLOT: u32 = u32::MAX;
 
 impl<'a> PackedWatertight<'a> {
     /// The test over `packed`, built from `geometry` (which holds the spheres).
@@ -94,6 +107,7 @@ impl<'a> PackedWatertight<'a> {
             packed,
             geometry,
             shear: None,
+            best_slot: NO_SLOT,
         }
     }
 
@@ -105,12 +119,16 @@ impl<'a> PackedWatertight<'a> {
         first: u32,
         count: usize,
         ray: &Ray,
-        mut f: impl FnMut(u32, PrimHit) -> Option<Ray>,
+        mut f: impl FnMut(u32, u32, PrimHit) -> Option<Ray>,
     ) {
-        let (wr, test) = *self.shear.get_or_insert_with(|| {
+        if self.shear.is_none() {
             let wr = WatertightRay::new(ray.dir);
-            (wr, GroupTest::new(ray, &wr))
-        });
+            self.shear = Some((wr, GroupTest::new(ray, &wr)));
+        }
+        // Borrowed, not copied: a copy per leaf cost ~25 instructions per ray (callgrind).
+        let Some((wr, test)) = &self.shear else {
+            return;
+        };
         let mut ray = *ray;
         let mut left = count;
         let mut g = first as usize / LANES;
@@ -134,12 +152,19 @@ impl<'a> PackedWatertight<'a> {
                 let hit = match decided_hit {
                     Some(h) => h.and_then(|h| self.alpha(prim, h)),
                     // Not a triangle: the geometry's own test (a sphere).
-                    None if v[0][lane].is_nan() => self.geometry.intersect(prim, &ray, &wr),
-                    None => intersect_triangle(&ray, &wr, p[0], p[1], p[2])
+                    None if v[0][lane].is_nan() => self.geometry.intersect(prim, &ray, wr),
+                    None => intersect_triangle(&ray, wr, p[0], p[1], p[2])
                         .and_then(|h| self.alpha(prim, h)),
                 };
                 if let Some(h) = hit {
-                    match f(prim, h) {
+                    // A slot only for triangles: a hit with one is a triangle whose corners
+                    // `corners` reads.
+                    let slot = if v[0][lane].is_nan() {
+                        NO_SLOT
+                    } else {
+                        (g * LANES + lane) as u32
+                    };
+                    match f(prim, slot, h) {
                         Some(next) => ray = next,
                         None => return,
                     }
@@ -175,10 +200,14 @@ impl ClosestLeaves for PackedWatertight<'_> {
     ) {
         stats.prim_tests += prims.len() as u64;
         let ray = closest.ray;
-        self.each_hit(first, prims.len(), &ray, |prim, h| {
-            closest.offer(prim, h);
+        let mut best_slot = self.best_slot;
+        self.each_hit(first, prims.len(), &ray, |prim, slot, h| {
+            if closest.offer(prim, h) {
+                best_slot = slot;
+            }
             Some(closest.ray)
         });
+        self.best_slot = best_slot;
     }
 }
 
@@ -187,7 +216,7 @@ impl AnyLeaves for PackedWatertight<'_> {
     fn any(&mut self, first: u32, prims: &[u32], ray: &Ray, stats: &mut TraversalStats) -> bool {
         stats.prim_tests += prims.len() as u64;
         let mut blocked = false;
-        self.each_hit(first, prims.len(), ray, |_, _| {
+        self.each_hit(first, prims.len(), ray, |_, _, _| {
             blocked = true;
             None
         });

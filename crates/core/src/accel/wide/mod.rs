@@ -103,8 +103,10 @@ impl<const W: usize> WideBvh<W> {
         };
         let bin = binary.nodes();
         let mut wide = Self {
-            // About one wide node per three or four binary interior nodes (half the nodes).
-            nodes: Vec::with_capacity(bin.len() / 6 + 1),
+            // At most one wide node per binary interior node (about a third of that in
+            // practice): room never written is address space only, and an exact upper bound
+            // means the nodes never move out of their huge pages.
+            nodes: crate::huge_pages::vec_with_capacity(bin.len() / 2 + 1),
             shapes: Vec::with_capacity(bin.len() / 6 + 1),
             prim_order: Vec::with_capacity(binary.prim_order().len() * 5 / 4),
             bounds: bin.first().map_or(Aabb::EMPTY, |n| n.bounds),

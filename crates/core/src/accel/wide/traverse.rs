@@ -87,22 +87,23 @@ macro_rules! with_child_test {
 }
 
 impl WideBvh<8> {
-    /// Nearest hit; the answer of [`crate::accel::Bvh::intersect`] and of brute force.
+    /// Nearest hit; the answer of [`crate::accel::Bvh::intersect`] and of brute force. The
+    /// tester is borrowed (moving it into each call copied it per ray), so the caller can read
+    /// what it kept (the packed leaves' slot of the hit).
     #[inline(always)]
     pub(crate) fn intersect<L: ClosestLeaves>(
         &self,
         ray: &Ray,
         stats: &mut TraversalStats,
-        mut test: L,
+        test: &mut L,
     ) -> Option<Hit> {
-        // The tester is borrowed from here on: moving it into each call copied it per ray.
         #[cfg(target_arch = "x86_64")]
         if has_avx2() {
             // SAFETY: AVX2 is present.
-            return unsafe { self.intersect_avx2(ray, stats, &mut test) };
+            return unsafe { self.intersect_avx2(ray, stats, test) };
         }
         with_child_test!(self, ray, |_| None::<LaneByLane<SlabF32<false>>>, |t| self
-            .intersect_with(t, ray, stats, &mut test))
+            .intersect_with(t, ray, stats, test))
     }
 
     /// The whole walk compiled for AVX2, so the node test and the primitive test inline into it.
