@@ -99,7 +99,7 @@ impl WideBvh<8> {
     ) -> Option<Hit> {
         #[cfg(target_arch = "x86_64")]
         if has_avx2() {
-            // SAFETY: AVX2 is present.
+            // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
             return unsafe { self.intersect_avx2(ray, stats, test) };
         }
         with_child_test!(self, ray, |_| None::<LaneByLane<SlabF32<false>>>, |t| self
@@ -108,7 +108,7 @@ impl WideBvh<8> {
 
     /// The whole walk compiled for AVX2, so the node test and the primitive test inline into it.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn intersect_avx2<L: ClosestLeaves>(
         &self,
         ray: &Ray,
@@ -143,7 +143,7 @@ impl WideBvh<8> {
     ) -> bool {
         #[cfg(target_arch = "x86_64")]
         if has_avx2() {
-            // SAFETY: AVX2 is present.
+            // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
             return unsafe { self.occluded_avx2(ray, stats, &mut test) };
         }
         with_child_test!(self, ray, |_| None::<LaneByLane<SlabF32<false>>>, |t| self
@@ -151,7 +151,7 @@ impl WideBvh<8> {
     }
 
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn occluded_avx2<L: AnyLeaves>(
         &self,
         ray: &Ray,
