@@ -13,7 +13,7 @@
 
 mod classify;
 
-use super::leaves::{AnyLeaves, ClosestLeaves};
+use super::leaves::{AnyLeaves, ClosestLeaves, Prefetch, prefetch_lines};
 use super::{Closest, LEAF_ALIGN, PADDING, TraversalStats};
 use crate::geometry::triangle::{
     TriangleHit, WatertightRay, finish_decided_hit, intersect_triangle,
@@ -185,6 +185,22 @@ impl<'a> PackedWatertight<'a> {
             Some(h.into())
         } else {
             None
+        }
+    }
+}
+
+impl Prefetch for PackedWatertight<'_> {
+    #[inline(always)]
+    fn prefetch(&self, first: u32, count: u32) {
+        let g = first as usize / LANES;
+        for group in self
+            .packed
+            .groups
+            .iter()
+            .skip(g)
+            .take((count as usize).div_ceil(LANES))
+        {
+            prefetch_lines(group);
         }
     }
 }

@@ -10,7 +10,7 @@ use std::mem::MaybeUninit;
 use super::child_test::{ChildTest, LaneByLane, Octant, has_avx2};
 use super::{WideBvh, WideNode};
 use crate::accel::bvh::MAX_DEPTH;
-use crate::accel::leaves::{AnyLeaves, ClosestLeaves};
+use crate::accel::leaves::{AnyLeaves, ClosestLeaves, Prefetch, prefetch_lines};
 use crate::accel::{Closest, Hit, TraversalStats};
 use crate::math::slab::{SlabF32, SlabF64, SlabKind};
 use crate::math::{Ray, safe_inverse};
@@ -203,6 +203,7 @@ impl<const W: usize> WideBvh<W> {
                 let node = &self.nodes[current.child as usize];
                 stats.nodes_visited += 1;
                 let (mask, near) = child_test.test(node, t_min, cull.widen(closest.ray.t_max));
+                prefetch_children(&self.nodes, node, mask, &*leaves);
                 if let Some(next) = push_entered(node, mask, &near, &mut stack) {
                     current = next;
                     continue;
@@ -254,6 +255,7 @@ impl<const W: usize> WideBvh<W> {
                 let node = &self.nodes[current.child as usize];
                 stats.nodes_visited += 1;
                 let (mut mask, _) = child_test.test(node, t_min, t_max);
+                prefetch_children(&self.nodes, node, mask, &*leaves);
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -275,6 +277,32 @@ impl<const W: usize> WideBvh<W> {
                 Some(e) => current = e,
                 None => return false,
             }
+        }
+    }
+}
+
+/// Starts loading every entered child of `node`: each cache line of an interior child, and
+/// the leaf data of a leaf (through its tester), so the ones pushed for later are in cache by
+/// the time they are popped. Measured: -4% time per ray on the 69k bunny's incoherent rays,
+/// -13% on the 1.1M one's (BENCHMARKS.md, Phase 14).
+#[inline(always)]
+fn prefetch_children<const W: usize>(
+    nodes: &[WideNode<W>],
+    node: &WideNode<W>,
+    mask: u32,
+    leaves: &impl Prefetch,
+) {
+    let mut m = mask;
+    while m != 0 {
+        let lane = m.trailing_zeros() as usize;
+        m &= m - 1;
+        match node.count[lane] {
+            0 => {
+                if let Some(child) = nodes.get(node.child[lane] as usize) {
+                    prefetch_lines(child);
+                }
+            }
+            count => leaves.prefetch(node.child[lane], count),
         }
     }
 }
