@@ -36,9 +36,9 @@ from . import lumis as lumis_run
 from .bench_embree import prepare_model
 from .rays import bench_all_miss, bench_camera, bench_incoherent
 
+# Run with tools/ on PYTHONPATH (the package need not be installed).
 EMBREE_SCRIPT = """
-import sys, numpy as np
-sys.path.insert(0, {tools!r})
+import numpy as np
 from lumis_tools.embree import EmbreeScene
 tris = np.load({tris!r})
 rays = np.load({rays!r})
@@ -74,9 +74,9 @@ def callgrind_total(out_file: Path) -> int:
     return int(m.group(1))
 
 
-def callgrind(cmd, out_file: Path, extra=()):
+def callgrind(cmd, out_file: Path, extra=(), env=None):
     full = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out_file}", *extra, *cmd]
-    done = subprocess.run(full, capture_output=True, text=True)
+    done = subprocess.run(full, capture_output=True, text=True, env=env)
     if done.returncode != 0:
         raise exitcodes.SetupError(f"callgrind failed ({done.returncode}): {' '.join(full)}\n"
                                    + done.stderr[-2000:])
@@ -94,11 +94,11 @@ def lumis_per_ray(exe, scene, rays_npy, n, tmp: Path, extra):
 
 def embree_per_ray(tris_npy, rays_npy, n, tmp: Path, robust):
     script = tmp / "embree_run.py"
-    script.write_text(EMBREE_SCRIPT.format(tools=str(Path(__file__).resolve().parents[1]),
-                                           tris=str(tris_npy), rays=str(rays_npy),
+    script.write_text(EMBREE_SCRIPT.format(tris=str(tris_npy), rays=str(rays_npy),
                                            robust=robust))
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
     total = callgrind([sys.executable, str(script)], tmp / "embree.out",
-                      ["--toggle-collect=rtcIntersect1"])
+                      ["--toggle-collect=rtcIntersect1"], env=env)
     # The commit's one probe ray is traced through rtcIntersect1 too.
     return total / (n + 1)
 
