@@ -103,7 +103,8 @@ impl GroupTest {
             let [kx, ky, kz] = self.k;
             // Vertex `k` relative to the origin, sheared, and its magnitudes (`magnitudes`).
             let vertex = |k: usize| {
-                let d = [0, 1, 2].map(|axis| _mm_sub_ps(row(3 * k + axis), o[axis]));
+                let axis = |a: usize| _mm_sub_ps(row(3 * k + a), o[a]);
+                let d = [axis(0), axis(1), axis(2)];
                 let z = abs(d[kz]);
                 let mx = add(add(abs(d[kx]), mul(w[0], z)), tiny);
                 let my = add(add(abs(d[ky]), mul(w[1], z)), tiny);

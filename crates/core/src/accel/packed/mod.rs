@@ -35,6 +35,14 @@ struct Group {
     prim: [u32; LANES],
 }
 
+/// The corners of lane `lane`. Written out: `[0, 1, 2].map(..)` went through a call to
+/// `array::try_map` that was not inlined (33 instructions per ray, callgrind).
+#[inline(always)]
+fn group_corners(v: &[[f32; LANES]; 9], lane: usize) -> [Vec3; 3] {
+    let corner = |k: usize| Vec3::new(v[3 * k][lane], v[3 * k + 1][lane], v[3 * k + 2][lane]);
+    [corner(0), corner(1), corner(2)]
+}
+
 /// A scene's triangles in the order of one hierarchy's `prim_order`.
 #[derive(Clone, Debug)]
 pub struct PackedLeaves {
@@ -77,7 +85,7 @@ impl PackedLeaves {
         if v[0][lane].is_nan() {
             return None;
         }
-        Some([0, 1, 2].map(|k| Vec3::new(v[3 * k][lane], v[3 * k + 1][lane], v[3 * k + 2][lane])))
+        Some(group_corners(v, lane))
     }
 
     /// Bytes held.
@@ -142,8 +150,7 @@ impl<'a> PackedWatertight<'a> {
                 mask &= mask - 1;
                 let prim = group.prim[lane];
                 let v = &group.v;
-                let p = [0, 1, 2]
-                    .map(|k| Vec3::new(v[3 * k][lane], v[3 * k + 1][lane], v[3 * k + 2][lane]));
+                let p = group_corners(v, lane);
                 let decided_hit = if decided.line_hits & (1 << lane) != 0 {
                     finish_decided_hit(&ray, p, decided.u[lane], decided.v[lane]).ok()
                 } else {
