@@ -13,9 +13,17 @@ pub(crate) trait Prefetch {
     fn prefetch(&self, _first: u32, _count: u32) {}
 }
 
-/// Asks for every cache line of `value` to be loaded, without waiting for it.
+/// Asks for every cache line `value` touches to be loaded, without waiting for it. One prefetch
+/// per 64 bytes from its start reaches every line only when no placement the type's alignment
+/// allows makes it straddle one more line (a 160-byte leaf group aligned to 16 bytes can touch
+/// four lines, so the groups are aligned to 32); checked at compile time.
 #[inline(always)]
 pub(crate) fn prefetch_lines<T>(value: &T) {
+    const {
+        let (size, align) = (size_of::<T>(), align_of::<T>());
+        let worst_offset = 64_usize.saturating_sub(align);
+        assert!(worst_offset + size <= size.div_ceil(64) * 64);
+    }
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};

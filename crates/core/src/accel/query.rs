@@ -110,7 +110,7 @@ impl Accel {
         stats: &mut TraversalStats,
     ) -> Option<(Hit, Option<u32>)> {
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
-            let mut test = PackedWatertight::new(packed, geometry, ray);
+            let mut test = PackedWatertight::new(packed, geometry);
             let hit = wide.intersect(ray, stats, &mut test)?;
             return Some((hit, (test.best_slot != NO_SLOT).then_some(test.best_slot)));
         }
@@ -160,7 +160,7 @@ impl Accel {
         stats: &mut TraversalStats,
     ) -> bool {
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
-            return wide.occluded(ray, stats, PackedWatertight::new(packed, geometry, ray));
+            return wide.occluded(ray, stats, PackedWatertight::new(packed, geometry));
         }
         with_prim_test!(geometry, precision, ray, |test| {
             self.any(ray, stats, |p, r| test(p, r).is_some())

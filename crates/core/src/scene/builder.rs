@@ -182,3 +182,66 @@ impl SceneBuilder {
         self.warnings.push(message.into());
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Mesh, Sphere};
+    use crate::math::Vec3;
+
+    #[test]
+    fn each_primitive_belongs_to_the_object_that_added_it() {
+        let mut b = SceneBuilder::new();
+        let m = b.add_material(Material::default());
+        let tri = |x: f32| {
+            let p = vec![
+                Vec3::new(x, 0., 0.),
+                Vec3::new(x + 1., 0., 0.),
+                Vec3::new(x, 1., 0.),
+            ];
+            Mesh::new(p, None, None, vec![[0, 1, 2]]).expect("valid mesh")
+        };
+        let two = Mesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+            None,
+            None,
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .expect("valid mesh");
+        let empty = Mesh::new(vec![], None, None, vec![]).expect("an empty mesh is valid");
+        // Objects 0..5 own primitives [0], [1, 2], [], [3], [] (an empty object in the middle
+        // and one at the end).
+        let sphere = Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        };
+        b.add_sphere("s", sphere, m);
+        b.add_mesh("two", two, m);
+        b.add_mesh("empty", empty.clone(), m);
+        b.add_mesh("one", tri(2.0), m);
+        b.add_mesh("empty at the end", empty, m);
+        let cam = Camera::look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y, 40.0, 0.0, None)
+            .expect("valid camera");
+        let scene = b.build(cam).expect("within the limits");
+        let owners: Vec<u32> = (0..4).map(|p| scene.object_of(p)).collect();
+        assert_eq!(owners, [0, 1, 1, 3]);
+    }
+
+    #[test]
+    fn a_scene_of_one_object_owns_every_primitive() {
+        let mut b = SceneBuilder::new();
+        let m = b.add_material(Material::default());
+        let two = Mesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+            None,
+            None,
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .expect("valid mesh");
+        b.add_mesh("two", two, m);
+        let cam = Camera::look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y, 40.0, 0.0, None)
+            .expect("valid camera");
+        let scene = b.build(cam).expect("within the limits");
+        assert_eq!([scene.object_of(0), scene.object_of(1)], [0, 0]);
+    }
+}

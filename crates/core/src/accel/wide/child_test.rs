@@ -120,7 +120,7 @@ fn avx2_test(o: &Octant, node: &WideNode<8>, t_min: f32, t_max: f32) -> (u32, [f
     (mask, out)
 }
 
-/// True when the AVX2 walk may be used (detected once; the standard library caches it): AVX2
+/// True when the AVX2 walk may be used (detected once and cached here): AVX2
 /// and the bit instructions every AVX2 CPU has (without `popcnt` the entered-lane count was a
 /// five-instruction multiply trick on every node).
 #[inline(always)]
