@@ -188,6 +188,19 @@ def prepare_model(model: Path, subdivide: int, tmp: Path):
     return lumis_scene, tris, what
 
 
+def ray_sets(tris, n, seed, camera_size):
+    """The benchmark's three ray sets for float32 (M, 3, 3) triangles: `n` incoherent and `n`
+    all-miss rays of `seed`, and the camera's `camera_size` = (w, h) rays."""
+    points = tris.reshape(-1, 3).astype(np.float64)
+    lo, hi = points.min(0), points.max(0)
+    w, h = camera_size
+    return {
+        "incoherent": bench_incoherent(lo, hi, n, seed),
+        "camera": bench_camera(points, w, h),
+        "all-miss": bench_all_miss(lo, hi, n, seed),
+    }
+
+
 # ---------------------------------------------------------------------------------------------
 # Engines
 
@@ -290,14 +303,7 @@ def main(argv=None):
         tmp = Path(tmp)
         lumis_scene, tris, what = prepare_model(args.model, args.subdivide, tmp)
         print(f"model: {what}", flush=True)
-        lo = tris.reshape(-1, 3).min(0).astype(np.float64)
-        hi = tris.reshape(-1, 3).max(0).astype(np.float64)
-        w, h = args.camera_size
-        sets = {
-            "incoherent": bench_incoherent(lo, hi, args.rays, args.seed),
-            "camera": bench_camera(tris.reshape(-1, 3).astype(np.float64), w, h),
-            "all-miss": bench_all_miss(lo, hi, args.rays, args.seed),
-        }
+        sets = ray_sets(tris, args.rays, args.seed, args.camera_size)
 
         # --runs rounds. In each: a fresh Embree scene is built, then for every ray set Embree
         # and one `lumis hits --repeat 2` process take turns (who goes first alternates), each

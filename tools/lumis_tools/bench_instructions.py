@@ -33,8 +33,7 @@ import numpy as np
 
 from . import exitcodes
 from . import lumis as lumis_run
-from .bench_embree import prepare_model
-from .rays import bench_all_miss, bench_camera, bench_incoherent
+from .bench_embree import prepare_model, ray_sets
 
 # Run with tools/ on PYTHONPATH (the package need not be installed).
 EMBREE_SCRIPT = """
@@ -117,18 +116,13 @@ def main(argv=None):
         tmp = Path(tmp)
         scene, tris, what = prepare_model(args.model, args.subdivide, tmp)
         print(f"model: {what}", flush=True)
-        lo = tris.reshape(-1, 3).min(0).astype(np.float64)
-        hi = tris.reshape(-1, 3).max(0).astype(np.float64)
-        makers = {
-            "incoherent": lambda: bench_incoherent(lo, hi, 200_000, 1),
-            "camera": lambda: bench_camera(tris.reshape(-1, 3).astype(np.float64), 512, 384),
-            "all-miss": lambda: bench_all_miss(lo, hi, 200_000, 1),
-        }
+        # bench_embree's default sets, thinned below.
+        sets = ray_sets(tris, 200_000, 1, (512, 384))
         tris_npy = tmp / "tris.npy"
         np.save(tris_npy, tris)
         table = {}
         for name in args.sets.split(","):
-            rays = thin(makers[name]().astype(np.float32), args.rays)
+            rays = thin(sets[name].astype(np.float32), args.rays)
             rays_npy = tmp / f"{name}.npy"
             np.save(rays_npy, rays)
             row = {"rays": len(rays)}

@@ -189,6 +189,11 @@ mod tests {
     use crate::geometry::{Mesh, Sphere};
     use crate::math::Vec3;
 
+    fn two_triangles() -> Mesh {
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+        Mesh::new(p, None, None, vec![[0, 1, 2], [0, 2, 3]]).expect("valid mesh")
+    }
+
     #[test]
     fn each_primitive_belongs_to_the_object_that_added_it() {
         let mut b = SceneBuilder::new();
@@ -201,13 +206,6 @@ mod tests {
             ];
             Mesh::new(p, None, None, vec![[0, 1, 2]]).expect("valid mesh")
         };
-        let two = Mesh::new(
-            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
-            None,
-            None,
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-        .expect("valid mesh");
         let empty = Mesh::new(vec![], None, None, vec![]).expect("an empty mesh is valid");
         // Objects 0..5 own primitives [0], [1, 2], [], [3], [] (an empty object in the middle
         // and one at the end).
@@ -216,7 +214,7 @@ mod tests {
             radius: 1.0,
         };
         b.add_sphere("s", sphere, m);
-        b.add_mesh("two", two, m);
+        b.add_mesh("two", two_triangles(), m);
         b.add_mesh("empty", empty.clone(), m);
         b.add_mesh("one", tri(2.0), m);
         b.add_mesh("empty at the end", empty, m);
@@ -231,14 +229,7 @@ mod tests {
     fn a_scene_of_one_object_owns_every_primitive() {
         let mut b = SceneBuilder::new();
         let m = b.add_material(Material::default());
-        let two = Mesh::new(
-            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
-            None,
-            None,
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-        .expect("valid mesh");
-        b.add_mesh("two", two, m);
+        b.add_mesh("two", two_triangles(), m);
         let cam = Camera::look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y, 40.0, 0.0, None)
             .expect("valid camera");
         let scene = b.build(cam).expect("within the limits");
