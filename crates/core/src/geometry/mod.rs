@@ -26,7 +26,7 @@ pub use sphere::Sphere;
 pub use surface::SurfacePoint;
 pub use triangle::{
     TriangleHit, WatertightRay, face_normal, intersect_triangle, intersect_triangle_double,
-    intersect_triangle_fast,
+    intersect_triangle_fast, unit_face_normal,
 };
 
 use crate::math::{Aabb, Ray, Vec2, Vec3};
@@ -274,8 +274,7 @@ impl Geometry {
                 sphere_normal(d, len)
             }
             Primitive::Triangle { mesh, tri } => {
-                let [p0, p1, p2] = self.meshes[mesh as usize].corners(tri);
-                face_normal(p0, p1, p2).normalize_or(Vec3::Y)
+                unit_face_normal(self.meshes[mesh as usize].corners(tri))
             }
         }
     }
@@ -322,7 +321,7 @@ impl Geometry {
                 let exact = a + e1 * u + e2 * v;
                 let slack = (a.abs() + (e1 * u).abs() + (e2 * v).abs()) * (8.0 * f64::EPSILON);
                 let (p, p_error) = rounded_with_error(exact, slack);
-                let ng = face_normal(p0, p1, p2).normalize_or(Vec3::Y);
+                let ng = unit_face_normal([p0, p1, p2]);
                 let ns = m
                     .shading_normal(tri, hit.u, hit.v)
                     .map_or(ng, |ns| if ns.dot(ng) < 0.0 { -ns } else { ns });

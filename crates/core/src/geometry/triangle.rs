@@ -282,6 +282,13 @@ pub fn face_normal(p0: Vec3, p1: Vec3, p2: Vec3) -> Vec3 {
     (p1 - p0).cross(p2 - p0)
 }
 
+/// The unit geometric normal of a hit triangle, `+y` for one without area: one formula for the
+/// surface, the hit record and the record taken from the packed leaves, so all give the same bits.
+#[inline]
+pub fn unit_face_normal([p0, p1, p2]: [Vec3; 3]) -> Vec3 {
+    face_normal(p0, p1, p2).normalize_or(Vec3::Y)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

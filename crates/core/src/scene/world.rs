@@ -7,7 +7,7 @@
 use super::{Interaction, Scene, Settings};
 use crate::accel::{Accel, AccelKind, BuildOptions, Hit, Traced, Traversal, TraversalStats};
 use crate::camera::Camera;
-use crate::geometry::triangle::face_normal;
+use crate::geometry::triangle::unit_face_normal;
 use crate::geometry::with_prim_test;
 use crate::math::{Ray, Vec3};
 
@@ -82,7 +82,7 @@ impl World {
     pub fn geometric_normal(&self, traced: &Traced) -> Vec3 {
         let g = self.scene.geometry();
         match traced.slot.and_then(|s| self.accel.packed_corners(s)) {
-            Some([p0, p1, p2]) => face_normal(p0, p1, p2).normalize_or(Vec3::Y),
+            Some(corners) => unit_face_normal(corners),
             None => g.geometric_normal(traced.hit.prim, &traced.ray, &traced.hit.hit),
         }
     }
