@@ -99,6 +99,7 @@ pub fn render<'py>(
     let result = py.detach(|| -> Result<_, String> {
         let options = BuildOptions {
             max_leaf_size: kind.default_leaf_size(),
+            ..Default::default()
         };
         let world = World::build(s, kind, &options);
         let mut rendered = render_world(&world, &opts).map_err(|e| chain(&e))?;

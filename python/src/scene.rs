@@ -68,6 +68,7 @@ impl PyScene {
             scene.settings_mut().precision = precision;
             let options = BuildOptions {
                 max_leaf_size: kind.default_leaf_size(),
+                ..Default::default()
             };
             Arc::new(World::build(scene, kind, &options))
         })

@@ -3,10 +3,12 @@
 use super::values::{AccelArg, TraversalArg};
 use anyhow::{Result, bail};
 use clap::Args;
-use lumis_core::accel::{AccelKind, BuildOptions, PAPER_SEGMENT_MAX, SegmentParams, Traversal};
+use lumis_core::accel::{
+    AccelKind, BuildOptions, BuildQuality, PAPER_SEGMENT_MAX, SegmentParams, Traversal,
+};
 use lumis_core::scene::{Scene, World};
 
-/// `--accel`, `--traversal`, `--segment-init`, `--segment-max`, `--leaf-size`.
+/// `--accel`, `--traversal`, `--segment-init`, `--segment-max`, `--leaf-size`, `--build`.
 #[derive(Args, Debug)]
 pub struct AccelArgs {
     /// Acceleration structure.
@@ -25,6 +27,17 @@ pub struct AccelArgs {
     /// Largest leaf of the hierarchies (default: 4 for sah, 20 for bsp and bsmp, as in the paper).
     #[arg(long)]
     leaf_size: Option<usize>,
+    /// How the sah hierarchy is built: full (binned and swept SAH over all primitives) or fast
+    /// (SAH over Morton-order clusters, the full builder inside each: BENCHMARKS.md, "Build").
+    #[arg(long, value_enum, default_value_t = BuildArg::Full)]
+    build: BuildArg,
+}
+
+/// `--build`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum BuildArg {
+    Full,
+    Fast,
 }
 
 /// A checked accelerator choice, ready to build.
@@ -40,6 +53,10 @@ impl AccelArgs {
         let kind = AccelKind::from(self.accel);
         let options = BuildOptions {
             max_leaf_size: self.leaf_size.unwrap_or(kind.default_leaf_size()),
+            quality: match self.build {
+                BuildArg::Full => BuildQuality::Full,
+                BuildArg::Fast => BuildQuality::Fast,
+            },
         };
         if options.max_leaf_size == 0 {
             bail!("--leaf-size must be at least 1");

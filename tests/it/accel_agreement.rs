@@ -8,7 +8,9 @@
 use crate::common;
 
 use common::{Rng, all_kinds, brute, closest, occluded, rays, same_hit, scenes};
-use lumis_core::accel::{Accel, AccelKind, BuildOptions, Hit, SegmentParams, Traversal};
+use lumis_core::accel::{
+    Accel, AccelKind, BuildOptions, BuildQuality, Hit, SegmentParams, Traversal,
+};
 use lumis_core::geometry::{Geometry, WatertightRay};
 use lumis_core::math::Ray;
 
@@ -31,6 +33,16 @@ const TRAVERSALS: [Traversal; 4] = [
     }),
 ];
 
+/// Every kind with its builder, and the SAH hierarchy once more from the fast builder.
+fn builds() -> Vec<(AccelKind, BuildQuality)> {
+    let mut builds: Vec<_> = all_kinds()
+        .into_iter()
+        .map(|k| (k, BuildQuality::Full))
+        .collect();
+    builds.push((AccelKind::Sah, BuildQuality::Fast));
+    builds
+}
+
 /// Checks every kind and leaf size against brute force on `rays`; returns the number of rays.
 fn check(name: &str, g: &Geometry, rays: &[Ray]) -> usize {
     let bounds = g.prim_bounds();
@@ -47,9 +59,13 @@ fn check(name: &str, g: &Geometry, rays: &[Ray]) -> usize {
             "{name}: brute intersect/occluded disagree on ray {i}"
         );
     }
-    for kind in all_kinds() {
+    for (kind, quality) in builds() {
         for max_leaf_size in LEAF_SIZES {
-            let built = Accel::build_for(kind, g, &BuildOptions { max_leaf_size });
+            let opts = BuildOptions {
+                max_leaf_size,
+                quality,
+            };
+            let built = Accel::build_for(kind, g, &opts);
             // Without a hierarchy the leaf size means nothing: one run of brute force suffices.
             if built.kind() == AccelKind::Brute && max_leaf_size != LEAF_SIZES[0] {
                 continue;
@@ -57,16 +73,19 @@ fn check(name: &str, g: &Geometry, rays: &[Ray]) -> usize {
             if let Some(b) = built.bvh()
                 && let Err(e) = b.validate(&bounds)
             {
-                panic!("{name} {kind:?} leaf {max_leaf_size}: invalid hierarchy: {e}");
+                panic!("{name} {kind:?} {quality:?} leaf {max_leaf_size}: invalid hierarchy: {e}");
             }
             if let Some(w) = built.wide()
                 && let Err(e) = w.validate(&bounds)
             {
-                panic!("{name} {kind:?} leaf {max_leaf_size}: invalid wide hierarchy: {e}");
+                panic!(
+                    "{name} {kind:?} {quality:?} leaf {max_leaf_size}: invalid wide hierarchy: {e}"
+                );
             }
             for traversal in TRAVERSALS {
                 let accel = built.clone().with_traversal(traversal);
-                let what = format!("{name} {kind:?} leaf {max_leaf_size} {traversal:?}");
+                let what =
+                    format!("{name} {kind:?} {quality:?} leaf {max_leaf_size} {traversal:?}");
                 for (i, (r, (hit, occ))) in rays.iter().zip(&expected).enumerate() {
                     let got = closest(&accel, g, r);
                     assert!(
@@ -138,9 +157,13 @@ fn exact_t_ties_go_to_the_lowest_index() {
     let rays = rays::mixed(&mut Rng::new(52), &g, 12_000);
     check("duplicates", &g, &rays);
     let mut ties = 0;
-    for kind in all_kinds() {
+    for (kind, quality) in builds() {
         for max_leaf_size in LEAF_SIZES {
-            let accel = Accel::build_for(kind, &g, &BuildOptions { max_leaf_size });
+            let opts = BuildOptions {
+                max_leaf_size,
+                quality,
+            };
+            let accel = Accel::build_for(kind, &g, &opts);
             for (i, r) in rays.iter().enumerate() {
                 let Some(h) = closest(&accel, &g, r) else {
                     continue;
@@ -153,7 +176,7 @@ fn exact_t_ties_go_to_the_lowest_index() {
                 assert_eq!(
                     Some(h.prim),
                     first_min,
-                    "{kind:?} leaf {max_leaf_size} ray {i}"
+                    "{kind:?} {quality:?} leaf {max_leaf_size} ray {i}"
                 );
                 if let Some(group) = groups.iter().find(|gr| gr.contains(&h.prim)) {
                     assert_eq!(h.prim, group[..].iter().copied().min().unwrap());

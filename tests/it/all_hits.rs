@@ -302,6 +302,7 @@ fn every_accelerator_and_traversal_returns_brute_forces_hits_bit_for_bit() {
             for leaf in [1, kind.default_leaf_size()] {
                 let opts = BuildOptions {
                     max_leaf_size: leaf,
+                    ..Default::default()
                 };
                 let built = World::build(s.clone(), kind, &opts);
                 for t in traversals {

@@ -61,7 +61,10 @@ fn gltf_bin_data_uri_and_glb_render_identical_depth_and_ids() {
                 s,
                 (48, 32),
                 AccelKind::Sah,
-                &BuildOptions { max_leaf_size: 4 },
+                &BuildOptions {
+                    max_leaf_size: 4,
+                    ..Default::default()
+                },
             )
         })
         .collect();

@@ -19,7 +19,10 @@ fn load(name: &str) -> Scene {
 }
 
 fn render_at(s: Scene, width: u32, height: u32) -> Film {
-    let build = BuildOptions { max_leaf_size: 4 };
+    let build = BuildOptions {
+        max_leaf_size: 4,
+        ..Default::default()
+    };
     common::render::film(s, (width, height), AccelKind::Sah, &build)
 }
 

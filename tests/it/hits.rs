@@ -167,14 +167,17 @@ fn closest_hits_match_analytic_answers_for_every_accel() {
     let rays: Vec<[f32; 8]> = cases.iter().map(|c| c.0).collect();
     let rays_path = dir.path().join("rays.npy");
     write_rays(&rays_path, &rays);
-    for accel in ["brute", "bsp", "bsmp", "sah"] {
+    let builds = [("brute", "full"), ("bsp", "full"), ("bsmp", "full")];
+    for (accel, build) in builds.into_iter().chain([("sah", "full"), ("sah", "fast")]) {
         for traversal in ["ordered", "segments", "exhaustive"] {
-            let out = dir.path().join(format!("hits_{accel}_{traversal}.npy"));
+            let out = dir
+                .path()
+                .join(format!("hits_{accel}_{build}_{traversal}.npy"));
             let o = run_hits(
                 &scene,
                 &rays_path,
                 &out,
-                &["--accel", accel, "--traversal", traversal],
+                &["--accel", accel, "--build", build, "--traversal", traversal],
             );
             assert_ok(&o);
             let (shape, rows) = read_f32(&out);

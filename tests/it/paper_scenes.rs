@@ -31,6 +31,7 @@ fn bits(film: &Film) -> Vec<u32> {
 fn render_with(scene: &Scene, kind: AccelKind, traversal: Traversal) -> Film {
     let opts = BuildOptions {
         max_leaf_size: kind.default_leaf_size(),
+        ..Default::default()
     };
     let world = World::build(scene.clone(), kind, &opts).with_traversal(traversal);
     render(

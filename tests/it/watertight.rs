@@ -40,7 +40,14 @@ fn check_closed(name: &str, m: Mesh, center: Vec3, radius: f32, seed: u64) {
     let mut rng = Rng::new(seed);
     for max_leaf_size in [1, 4] {
         // Through the packed leaves too (`closest` checks both paths agree).
-        let accel = Accel::build_for(AccelKind::Sah, &g, &BuildOptions { max_leaf_size });
+        let accel = Accel::build_for(
+            AccelKind::Sah,
+            &g,
+            &BuildOptions {
+                max_leaf_size,
+                ..Default::default()
+            },
+        );
         accel
             .wide()
             .expect("a wide hierarchy")

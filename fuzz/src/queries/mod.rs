@@ -180,6 +180,7 @@ fn configurations(g: &Geometry) -> Vec<Config> {
         {
             let opts = BuildOptions {
                 max_leaf_size: leaf,
+                ..Default::default()
             };
             built = Some((kind, leaf, Accel::build_for(kind, g, &opts)));
         }

@@ -63,7 +63,7 @@ pub struct HitsArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
     repeat: u32,
     /// Write the phase times and sizes as JSON: {"rays", "load_s", "build_s", "trace_s": [one per
-    /// run], "prims", "geometry_bytes", "accel_bytes"}.
+    /// run], "prims", "geometry_bytes", "accel_bytes", "sah_cost"}.
     #[arg(long)]
     timings: Option<PathBuf>,
 }
@@ -130,6 +130,7 @@ pub fn run(args: &HitsArgs) -> Result<()> {
             "prims": world.scene().geometry().prims().len(),
             "geometry_bytes": world.scene().geometry().bytes(),
             "accel_bytes": world.accel().bytes(),
+            "sah_cost": world.accel().sah_cost(),
         });
         staged.stage_bytes(path, format!("{json}\n").as_bytes())?;
     }

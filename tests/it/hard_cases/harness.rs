@@ -45,6 +45,7 @@ impl<'a> Everywhere<'a> {
             for leaf in [kind.default_leaf_size(), 1] {
                 let opts = BuildOptions {
                     max_leaf_size: leaf,
+                    ..Default::default()
                 };
                 let built = Accel::build_for(kind, geometry, &opts);
                 if let Some(bvh) = built.bvh() {
@@ -133,6 +134,7 @@ pub fn render_everywhere(scene: &lumis_core::scene::Scene) -> lumis_core::film::
     for kind in all_kinds() {
         let opts = BuildOptions {
             max_leaf_size: kind.default_leaf_size(),
+            ..Default::default()
         };
         let built = World::build(scene.clone(), kind, &opts);
         for t in traversals() {

@@ -97,12 +97,28 @@ pub enum Traversal {
 pub struct BuildOptions {
     /// Largest number of primitives a leaf may hold when a split is possible.
     pub max_leaf_size: usize,
+    /// How the SAH hierarchy is built (the paper's hierarchies ignore it).
+    pub quality: BuildQuality,
 }
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        Self { max_leaf_size: 4 }
+        Self {
+            max_leaf_size: 4,
+            quality: BuildQuality::default(),
+        }
     }
+}
+
+/// The SAH builder: every split priced over all primitives, or a faster build over Morton
+/// clusters (see BENCHMARKS.md, "Build", for what each costs per build and per ray).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BuildQuality {
+    /// Binned and swept SAH over all primitives at every level.
+    #[default]
+    Full,
+    /// Morton-order clusters under a SAH top, the full builder inside each cluster.
+    Fast,
 }
 
 /// Counters a traversal adds to; kept per thread and summed afterwards.
@@ -266,6 +282,15 @@ impl Accel {
             Structure::Wide(w) => w.bytes(),
         };
         structure + self.packed.as_ref().map_or(0, |p| p.bytes())
+    }
+
+    /// The expected cost of a ray through the wide hierarchy (see [`WideBvh::sah_cost`]), to
+    /// compare builders; `None` for the other structures.
+    pub fn sah_cost(&self) -> Option<f64> {
+        match &self.structure {
+            Structure::Wide(w) => Some(w.sah_cost()),
+            _ => None,
+        }
     }
 
     /// This accelerator walked with `traversal` instead. Brute force has no nodes to march

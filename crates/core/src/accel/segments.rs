@@ -250,7 +250,14 @@ mod tests {
     #[test]
     fn original_first_found_rule_is_wrong_and_ours_is_right() {
         let g = counter_example();
-        let bvh = sah::build(&g.prim_bounds(), &[], &BuildOptions { max_leaf_size: 1 });
+        let bvh = sah::build(
+            &g.prim_bounds(),
+            &[],
+            &BuildOptions {
+                max_leaf_size: 1,
+                ..Default::default()
+            },
+        );
         let ray = Ray::new(Vec3::ZERO, Vec3::Z);
         let wr = WatertightRay::new(ray.dir);
         let test = |p: u32, r: &Ray| g.intersect(p, r, &wr);
@@ -307,7 +314,14 @@ mod tests {
             t_min: f32::NEG_INFINITY,
             t_max: f32::INFINITY,
         };
-        let bvh = sah::build(&g.prim_bounds(), &[], &BuildOptions { max_leaf_size: 4 });
+        let bvh = sah::build(
+            &g.prim_bounds(),
+            &[],
+            &BuildOptions {
+                max_leaf_size: 4,
+                ..Default::default()
+            },
+        );
         let wr = WatertightRay::new(ray.dir);
         let test = |p: u32, r: &Ray| g.intersect(p, r, &wr);
         let params = SegmentParams {
@@ -321,7 +335,14 @@ mod tests {
     #[test]
     fn each_leaf_is_searched_at_most_once_per_ray() {
         let g = counter_example();
-        let bvh = sah::build(&g.prim_bounds(), &[], &BuildOptions { max_leaf_size: 1 });
+        let bvh = sah::build(
+            &g.prim_bounds(),
+            &[],
+            &BuildOptions {
+                max_leaf_size: 1,
+                ..Default::default()
+            },
+        );
         let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
         let wr = WatertightRay::new(ray.dir);
         let mut stats = TraversalStats::default();

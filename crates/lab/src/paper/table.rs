@@ -142,6 +142,7 @@ pub fn measure(
         let start = Instant::now();
         let opts = BuildOptions {
             max_leaf_size: leaf_size.unwrap_or(config.accel.default_leaf_size()),
+            ..Default::default()
         };
         let world = World::build(scene, config.accel, &opts).with_traversal(config.traversal);
         // Like the original's TGA, Table I's image has no depth/normal/id layers to trace.

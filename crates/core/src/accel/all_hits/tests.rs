@@ -86,6 +86,7 @@ fn every_accelerator_and_traversal_returns_brute_forces_hits() {
                 &g,
                 &BuildOptions {
                     max_leaf_size: leaf,
+                    ..Default::default()
                 },
             );
             for traversal in [

@@ -11,10 +11,12 @@
 
 mod binned;
 mod boxes;
+mod morton;
 mod sweep;
+mod treelets;
 
 use super::bvh::{Bvh, MAX_DEPTH, Node};
-use super::{BuildOptions, LEAF_ALIGN};
+use super::{BuildOptions, BuildQuality, LEAF_ALIGN};
 use crate::math::Aabb;
 use boxes::{Box3, Centroids, Ref};
 
@@ -109,6 +111,14 @@ pub fn build(bounds: &[Aabb], slots: &[u8], opts: &BuildOptions) -> Bvh {
             .map(|(b, &s)| Ref::new(b, s))
             .collect()
     };
+    let builder = Builder {
+        max_leaf: opts.max_leaf_size.max(1),
+        #[cfg(target_arch = "x86_64")]
+        avx2: std::arch::is_x86_feature_detected!("avx2"),
+    };
+    if opts.quality == BuildQuality::Fast {
+        return treelets::build(refs, opts, &builder);
+    }
     let mut ids: Vec<u32> = (0..bounds.len() as u32).collect();
     let (all, centroids, slots) = scan(&refs);
     let span = Span {
@@ -117,11 +127,6 @@ pub fn build(bounds: &[Aabb], slots: &[u8], opts: &BuildOptions) -> Bvh {
         bounds: all,
         centroids,
         slots,
-    };
-    let builder = Builder {
-        max_leaf: opts.max_leaf_size.max(1),
-        #[cfg(target_arch = "x86_64")]
-        avx2: std::arch::is_x86_feature_detected!("avx2"),
     };
     let tree = builder.subtree(span, 0, 0);
     Bvh::from_parts(tree.nodes, ids)

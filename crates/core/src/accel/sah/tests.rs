@@ -1,4 +1,5 @@
 use super::*;
+use crate::accel::BuildQuality;
 use crate::accel::test_boxes::scattered as boxes;
 use crate::math::Vec3;
 
@@ -15,7 +16,10 @@ fn row_of_four() -> Vec<Aabb> {
 #[test]
 fn primitives_tested_alone_are_not_priced_as_sharing_a_group() {
     let bounds = row_of_four();
-    let opts = BuildOptions { max_leaf_size: 4 };
+    let opts = BuildOptions {
+        max_leaf_size: 4,
+        ..Default::default()
+    };
     // Four triangles cost one group test together: one leaf.
     let shared = build(&bounds, &[SHARED_SLOTS; 4], &opts);
     assert_eq!(shared.nodes().len(), 1);
@@ -66,13 +70,17 @@ fn trees_are_valid_for_assorted_inputs() {
                 }
             })
             .collect();
-        for leaf in [1, 4, 20] {
+        for (leaf, quality) in [1, 4, 20]
+            .into_iter()
+            .flat_map(|l| QUALITIES.map(|q| (l, q)))
+        {
             let opts = BuildOptions {
                 max_leaf_size: leaf,
+                quality,
             };
             for slots in [&[][..], &mixed] {
                 let bvh = build(&bounds, slots, &opts);
-                let case = (bounds.len(), bounds[0], leaf, slots.len());
+                let case = (bounds.len(), bounds[0], leaf, slots.len(), quality);
                 bvh.validate(&bounds)
                     .unwrap_or_else(|e| panic!("{case:?}: {e}"));
                 let biggest = bvh.nodes().iter().map(|n| n.count).max().unwrap();
@@ -90,17 +98,61 @@ fn trees_are_valid_for_assorted_inputs() {
 #[test]
 fn the_tree_does_not_depend_on_the_thread_count() {
     let bounds = boxes(3 * PARALLEL_MIN, 11);
-    let opts = BuildOptions::default();
-    let on = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| build(&bounds, &[], &opts))
+    for quality in QUALITIES {
+        let opts = BuildOptions {
+            quality,
+            ..Default::default()
+        };
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| build(&bounds, &[], &opts))
+        };
+        let one = on(1);
+        one.validate(&bounds).unwrap();
+        let three = on(3);
+        assert_eq!(one.nodes(), three.nodes());
+        assert_eq!(one.prim_order(), three.prim_order());
+    }
+}
+
+/// Both builders.
+const QUALITIES: [BuildQuality; 2] = [BuildQuality::Full, BuildQuality::Fast];
+
+/// The fast builder's tree over a tessellated surface (many clusters) costs, by the surface
+/// area heuristic, at most a few percent more than the full builder's.
+#[test]
+fn the_fast_tree_costs_little_more_than_the_full_one() {
+    // A wavy height field of 2 x 160 x 160 triangles' boxes.
+    let n = 160;
+    let h = |i: usize, j: usize| ((i as f32 * 0.21).sin() + (j as f32 * 0.13).cos()) * 4.0;
+    let mut bounds = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let corners = [h(i, j), h(i + 1, j), h(i, j + 1), h(i + 1, j + 1)];
+            let (lo, hi) = corners
+                .iter()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, u), &c| {
+                    (l.min(c), u.max(c))
+                });
+            let b = Aabb::new(
+                Vec3::new(i as f32, lo, j as f32),
+                Vec3::new(i as f32 + 1.0, hi, j as f32 + 1.0),
+            );
+            bounds.extend([b, b]);
+        }
+    }
+    let cost = |quality| {
+        let opts = BuildOptions {
+            quality,
+            ..Default::default()
+        };
+        let bvh = build(&bounds, &[], &opts);
+        bvh.validate(&bounds).unwrap();
+        crate::accel::Wide8::collapse(&bvh).sah_cost()
     };
-    let one = on(1);
-    one.validate(&bounds).unwrap();
-    let three = on(3);
-    assert_eq!(one.nodes(), three.nodes());
-    assert_eq!(one.prim_order(), three.prim_order());
+    let (full, fast) = (cost(BuildQuality::Full), cost(BuildQuality::Fast));
+    assert!(fast < full * 1.03, "fast {fast} against full {full}");
 }

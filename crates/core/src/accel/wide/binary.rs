@@ -142,6 +142,7 @@ mod tests {
                 &[],
                 &BuildOptions {
                     max_leaf_size: leaf,
+                    ..Default::default()
                 },
             );
             let wide = WideBvh::<8>::collapse(&binary);

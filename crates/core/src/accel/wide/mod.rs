@@ -213,6 +213,33 @@ impl<const W: usize> WideBvh<W> {
             + 4 * self.prim_order.len()
     }
 
+    /// The surface area heuristic's cost of a ray through the tree, in SIMD tests: a node's
+    /// box test for every node, plus one test per group of [`LEAF_ALIGN`] primitives for every
+    /// leaf, each weighted by the chance that a ray crossing the root crosses the box that leads
+    /// to it (its area over the root's). The measure builders are compared by.
+    pub fn sah_cost(&self) -> f64 {
+        let area = |b: Aabb| {
+            let e = (b.max - b.min).max(Vec3::ZERO).as_dvec3();
+            e.x * e.y + e.y * e.z + e.z * e.x
+        };
+        let root = area(self.bounds);
+        if self.nodes.is_empty() || root <= 0.0 {
+            return 0.0;
+        }
+        let mut cost = root;
+        for node in &self.nodes {
+            for lane in 0..W {
+                let tests = match node.count[lane] {
+                    EMPTY_LANE => continue,
+                    0 => 1,
+                    n => (n as usize).div_ceil(LEAF_ALIGN),
+                };
+                cost += area(node.bounds(lane)) * tests as f64;
+            }
+        }
+        cost / root
+    }
+
     /// Checks the invariants: every primitive reached exactly once, every lane's box exactly
     /// the union of what it holds, depth within the traversal stack. Returns the first violation.
     pub fn validate(&self, prim_bounds: &[Aabb]) -> Result<(), String> {
