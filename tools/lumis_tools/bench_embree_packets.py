@@ -37,7 +37,9 @@ loading and building are outside every timing.
 Timing: --runs rounds; in each, every engine traces the rays twice and the second pass is
 timed; the order of the engines rotates from round to round, so load from other processes on
 a shared machine moves every engine rather than the ratios. Throughput is rays / median
-seconds; "best" is of the fastest pass. This process pins itself to one CPU (--cpu, default the
+seconds; "best" is of the fastest pass. "CPU share" is the median of CPU time over wall time
+(of each timed pass; for lumis, of its whole process): below 100%, other processes ran on the
+CPU and stretched the times, and "best" is the more telling figure. This process pins itself to one CPU (--cpu, default the
 last allowed one) before Embree is loaded, so TBB (and the lumis processes, which inherit the
 mask) stay on it; --no-pin leaves the mask alone.
 
@@ -57,6 +59,8 @@ it). About 5 s with the defaults on the 69k-triangle bunny, 30 s on the 1.1M one
 from __future__ import annotations
 
 import os
+import resource
+import time
 
 # As in bench_embree: no BLAS threads spinning on the other core.
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
@@ -237,11 +241,22 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
     print(f"median of {args.runs} interleaved rounds", flush=True)
 
     def embreex_pass():
-        t, out = embreex.timed_intersect(rays)
+        wall, cpu = time.perf_counter(), time.thread_time()
+        t, out = embreex.timed_intersect(rays)  # t: the query, without copying the rays in
+        share = (time.thread_time() - cpu) / (time.perf_counter() - wall)
         rec = np.zeros(len(rays), RECORD)
         rec["t"], rec["prim"], rec["geom"] = out["tfar"], out["primID"], out["geomID"]
         rec["u"], rec["v"], rec["ng"] = out["u"], out["v"], out["Ng"]
-        return t, rec
+        return t, share * t, rec
+
+    def lumis_pass():
+        # lumis reports wall times; its share of the CPU is the process's CPU time (children's
+        # rusage) over its wall time, loading and building included.
+        wall, cpu = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
+        lh = run_lumis(lumis_scene, rays, 2, lumis_extra)
+        wall, after = time.perf_counter() - wall, resource.getrusage(resource.RUSAGE_CHILDREN)
+        used = after.ru_utime + after.ru_stime - cpu.ru_utime - cpu.ru_stime
+        return lh.timings["trace_s"][1], used / wall, lh.rows
 
     passes = {
         "embree-1": lambda: embree.trace1(rays),
@@ -250,17 +265,18 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
         "embreex-1": embreex_pass,
     }
     times = {e: [] for e in ENGINES}
+    shares = {e: [] for e in ENGINES}  # CPU time / wall time: 1 when nothing else ran
     last = {}
     for round_no in range(args.runs):
         for engine in rotated(ENGINES, round_no):
-            if engine == "lumis":
-                lh = run_lumis(lumis_scene, rays, 2, lumis_extra)
-                times[engine].append(lh.timings["trace_s"][1])
-                last[engine] = lh.rows
+            if engine == "lumis":  # its --repeat 2 makes the warm-up pass
+                t, share, last[engine] = lumis_pass()
             else:
                 passes[engine]()  # warm-up
-                t, last[engine] = passes[engine]()
-                times[engine].append(t)
+                t, cpu, last[engine] = passes[engine]()
+                share = cpu / t
+            times[engine].append(t)
+            shares[engine].append(share)
         print(f"round {round_no + 1}/{args.runs} done", flush=True)
     embree.close()
 
@@ -291,10 +307,14 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
               "embreex-1": "Embree rtcIntersect1 (embreex loop)",
               "lumis": "lumis hits --threads 1"}
     print()
-    print(f"{'engine':<10} {'':<37} {'Mrays/s':>8} {'(best)':>7} {'ns/ray':>7}")
+    share = {e: statistics.median(shares[e]) for e in ENGINES}
+    print(f"{'engine':<10} {'':<37} {'Mrays/s':>8} {'(best)':>7} {'ns/ray':>7} {'CPU share':>9}")
     for e in ENGINES:
         print(f"{e:<10} {labels[e]:<37} {mrays[e]:>8.2f} {n / best[e] / 1e6:>7.2f} "
-              f"{med[e] / n * 1e9:>7.1f}")
+              f"{med[e] / n * 1e9:>7.1f} {share[e]:>9.0%}")
+    if min(share.values()) < 0.9:
+        print("(CPU share: CPU time over wall time of the timed passes, lumis's of its whole "
+              "process; below 100% other processes ran on this CPU and stretched the times)")
     print()
     print("ratios of throughput (median; best):")
     for k, v in ratios.items():
@@ -324,9 +344,9 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
             "runs": args.runs, "pinned_cpu": pinned, "robust": robust,
             "cpus": os.cpu_count(), "cpu_model": cpu_model(), "lumis_bin": str(exe),
             "lumis_rev": rev, "embree_version": version,
-            "embree_commit_s": build, "seconds": times, "mrays_s": mrays, "ratios": ratios,
-            "ratios_best": ratios_best, "same_as_embree_1": checks,
-            "lumis_agreement": lumis_agree, "failed": failed,
+            "embree_commit_s": build, "seconds": times, "cpu_share": shares,
+            "mrays_s": mrays, "ratios": ratios, "ratios_best": ratios_best,
+            "same_as_embree_1": checks, "lumis_agreement": lumis_agree, "failed": failed,
         }
         args.json.write_text(json.dumps(record, indent=2) + "\n")
     return exitcodes.FAILED if failed else exitcodes.OK

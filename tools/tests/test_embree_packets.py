@@ -114,9 +114,9 @@ def test_both_loops_find_the_known_hits_of_a_square(tmp_path):
     embree = embree_native.NativeEmbree(tris, helper, robust=True)
     try:
         embree.commit()
-        _, one = embree.trace1(rays)
-        _, eight = embree.trace8(rays, packet_lanes(w, h))
-        _, coherent = embree.trace8(rays, packet_lanes(w, h), coherent=True)
+        one = embree.trace1(rays)[-1]
+        eight = embree.trace8(rays, packet_lanes(w, h))[-1]
+        coherent = embree.trace8(rays, packet_lanes(w, h), coherent=True)[-1]
     finally:
         embree.close()
     assert (one["t"][inside] == 3.0).all() and np.isinf(one["t"][~inside]).all()
