@@ -265,33 +265,43 @@ def package_version(name):
         return "unknown"
 
 
+def pin(cpu=None):
+    """Pins this process to `cpu` (default the last allowed one) and returns it. Call it before
+    Embree (and with it TBB) is loaded: TBB sizes its pool from this mask. It is the main
+    thread's mask; threads started later (TBB's, the lumis processes) inherit it."""
+    allowed = sorted(os.sched_getaffinity(0))
+    pinned = cpu if cpu is not None else allowed[-1]
+    if pinned not in allowed:
+        raise exitcodes.SetupError(f"--cpu {pinned}: not among the allowed CPUs {allowed}")
+    os.sched_setaffinity(0, {pinned})
+    return pinned
+
+
+def lumis_revision(explicit):
+    """Where the lumis binary comes from, for the printout: --lumis, $LUMIS_BIN, or the commit
+    of this checkout (and whether its sources have uncommitted changes)."""
+    if explicit:
+        return "--lumis"
+    if os.environ.get("LUMIS_BIN"):
+        return "$LUMIS_BIN"
+
+    def git(*a):
+        return subprocess.run(["git", *a], cwd=lumis_run.REPO, capture_output=True,
+                              text=True).stdout.strip()
+
+    rev = "commit " + (git("rev-parse", "--short", "HEAD") or "?")
+    if git("status", "--porcelain", "--", "src", "crates", "Cargo.toml", "Cargo.lock"):
+        rev += " + uncommitted changes in src/ or Cargo.*"
+    return rev
+
+
 def main(argv=None):
     args = parse_args(argv)
     lumis_extra = shlex.split(args.lumis_args)
-    allowed = sorted(os.sched_getaffinity(0))
-    pinned = None
-    if not args.no_pin:
-        pinned = args.cpu if args.cpu is not None else allowed[-1]
-        if pinned not in allowed:
-            raise exitcodes.SetupError(f"--cpu {pinned}: not among the allowed CPUs {allowed}")
-        # Before embreex (and with it TBB) is loaded: TBB sizes its pool from this mask. It is
-        # the main thread's mask; threads started later (TBB's, the lumis processes) inherit it.
-        os.sched_setaffinity(0, {pinned})
-
+    pinned = None if args.no_pin else pin(args.cpu)
     lumis_run.use(args.lumis)
     exe = lumis_run.binary()
-    if args.lumis:
-        rev = "--lumis"
-    elif os.environ.get("LUMIS_BIN"):
-        rev = "$LUMIS_BIN"
-    else:  # the checkout the default binary is built from
-        def git(*a):
-            return subprocess.run(["git", *a], cwd=lumis_run.REPO, capture_output=True,
-                                  text=True).stdout.strip()
-
-        rev = "commit " + (git("rev-parse", "--short", "HEAD") or "?")
-        if git("status", "--porcelain", "--", "src", "crates", "Cargo.toml", "Cargo.lock"):
-            rev += " + uncommitted changes in src/ or Cargo.*"
+    rev = lumis_revision(args.lumis)
     print(f"machine: {os.cpu_count()} CPUs ({cpu_model()}); "
           + (f"both engines pinned to CPU {pinned}" if pinned is not None else "not pinned"))
     print(f"lumis: {exe} ({rev}), args: hits --threads 1 --repeat 2 "

@@ -1,0 +1,10 @@
+#!/usr/bin/env python3
+"""Entry point kept for `python tools/bench_embree_packets.py`; the tool is
+lumis_tools/bench_embree_packets.py (see its --help), also `python -m
+lumis_tools.bench_embree_packets`. As a script, tools/ is on sys.path, so this needs no
+installation."""
+
+from lumis_tools.bench_embree_packets import cli
+
+if __name__ == "__main__":
+    cli()
