@@ -255,7 +255,7 @@ fn spheres_out_lists_the_ball_with_its_primitive_id() {
 }
 
 #[test]
-fn repeat_traces_every_run_and_timings_lists_each() {
+fn repeat_and_rebuild_run_again_and_timings_list_each_run() {
     let (dir, scene) = setup();
     let rays_path = dir.path().join("rays.npy");
     let cases = known_rays();
@@ -270,7 +270,7 @@ fn repeat_traces_every_run_and_timings_lists_each() {
         &scene,
         &rays_path,
         &thrice,
-        &["--repeat", "3", "--timings", t],
+        &["--repeat", "3", "--rebuild", "2", "--timings", t],
     ));
     assert_eq!(
         read_f32(&once),
@@ -291,8 +291,14 @@ fn repeat_traces_every_run_and_timings_lists_each() {
     }
     assert_eq!(runs.len(), 3, "{json}");
     assert!(runs.iter().all(|&s| s >= 0.0 && s.is_finite()), "{json}");
+    let builds = parsed["build_runs_s"].as_array().expect("build_runs_s is a list");
+    assert_eq!(builds.len(), 2, "{json}");
+    assert_eq!(builds[0], parsed["build_s"], "{json}");
+    assert!(parsed["sah_cost"].as_f64().is_some_and(|c| c >= 1.0), "{json}");
     let o = run_hits(&scene, &rays_path, &thrice, &["--repeat", "0"]);
     assert!(!o.status.success(), "--repeat 0 must be refused");
+    let o = run_hits(&scene, &rays_path, &thrice, &["--rebuild", "0"]);
+    assert!(!o.status.success(), "--rebuild 0 must be refused");
 }
 
 #[test]

@@ -35,7 +35,7 @@ Embree and lumis in turn (who goes first alternates between rounds):
 - Embree: `EmbreeScene.run(origins, dirs, dists, output=True)` (embreex's Cython loop over
   rtcIntersect1, returning t, primID, geomID, u, v and Ng for every ray, the same record lumis
   writes), called twice, the second call timed;
-- lumis: one `lumis hits --threads 1 --repeat 2 --timings` process, which traces the set twice
+- lumis: one `lumis hits --threads 1 --repeat 2 --rebuild 2 --timings` process, which traces the set twice
   after loading and building; its first pass is dropped as the warm-up.
 Throughputs are rays / median seconds over the rounds; the ratio lumis/Embree is of those
 throughputs (below 1: lumis is slower). Also printed: the ratio of the fastest passes
@@ -45,8 +45,10 @@ the trace timings. Interleaving the engines keeps their samples close in time, s
 other processes on a shared machine moves both rather than the ratio.
 
 Build, separately: Embree's `rtcCommitScene` (embreex commits lazily, so its first `run`, on
-one ray, is timed) once per round, against lumis's `build_s` (accelerator build after loading)
-of every lumis process; medians.
+one ray, is timed) once per round, against lumis's accelerator build after loading in every
+lumis process (`--rebuild 2`: the second of two builds, since Embree's builds after the first
+round run in a process that has built before, while a fresh process's first build also pays
+for the system handing it new memory; the first builds are printed too); medians.
 
 Threads: before Embree is loaded this process pins itself (and so the lumis processes it
 starts, which inherit the mask) to one CPU (--cpu, default the last allowed one). TBB sizes its
@@ -304,7 +306,7 @@ def main(argv=None):
     rev = lumis_revision(args.lumis)
     print(f"machine: {os.cpu_count()} CPUs ({cpu_model()}); "
           + (f"both engines pinned to CPU {pinned}" if pinned is not None else "not pinned"))
-    print(f"lumis: {exe} ({rev}), args: hits --threads 1 --repeat 2 "
+    print(f"lumis: {exe} ({rev}), args: hits --threads 1 --repeat 2 --rebuild 2 "
           f"{' '.join(lumis_extra)}".rstrip())
     print(f"embreex {package_version('embreex')}, robust={not args.no_robust}; "
           f"median of {args.runs} interleaved rounds", flush=True)
@@ -321,7 +323,7 @@ def main(argv=None):
         # samples close in time, so load from other processes on this shared machine shifts
         # both rather than the ratio.
         embree = Embree(tris, robust=not args.no_robust)
-        builds, lumis_builds, lumis_loads = [], [], []
+        builds, lumis_builds, lumis_first_builds, lumis_loads = [], [], [], []
         lumis_memory = {}
         times = {name: {"embree": [], "lumis": []} for name in sets}
         last = {}
@@ -335,9 +337,10 @@ def main(argv=None):
                     last[name, "embree"] = out
 
                 def lumis_turn():
-                    lh = run_lumis(lumis_scene, rays, 2, lumis_extra)
+                    lh = run_lumis(lumis_scene, rays, 2, [*lumis_extra, "--rebuild", "2"])
                     times[name]["lumis"].append(lh.timings["trace_s"][1])
-                    lumis_builds.append(lh.timings["build_s"])
+                    lumis_builds.append(lh.timings["build_runs_s"][-1])
+                    lumis_first_builds.append(lh.timings["build_runs_s"][0])
                     lumis_loads.append(lh.timings["load_s"])
                     lumis_memory.update({k: lh.timings.get(k) for k in
                                          ("prims", "geometry_bytes", "accel_bytes")})
@@ -387,7 +390,9 @@ def main(argv=None):
     print(f"build: Embree commit {e_build * 1e3:.1f} ms (CPU time {e_build_cpu * 1e3:.1f} ms), "
           f"lumis build_s {l_build * 1e3:.1f} ms; lumis/Embree build time "
           f"{l_build / e_build:.2f}x (medians of {len(builds)} and {len(lumis_builds)})")
-    print(f"(lumis load_s, not in build: median {statistics.median(lumis_loads):.2f} s)")
+    print(f"(lumis first build of each process: median "
+          f"{statistics.median(lumis_first_builds) * 1e3:.1f} ms; load_s, not in build: median "
+          f"{statistics.median(lumis_loads):.2f} s)")
     prims = lumis_memory.get("prims")
     if prims:
         # Build throughput and memory per triangle, as `lumis hits --timings` reports them.
@@ -409,7 +414,8 @@ def main(argv=None):
             "cpus": os.cpu_count(), "cpu_model": cpu_model(), "lumis_bin": str(exe),
             "lumis_rev": rev,
             "embree_build_s": [b[0] for b in builds], "embree_build_cpu_s": [b[1] for b in builds],
-            "lumis_build_s": lumis_builds, "lumis_load_s": lumis_loads, "sets": results,
+            "lumis_build_s": lumis_builds, "lumis_first_build_s": lumis_first_builds,
+            "lumis_load_s": lumis_loads, "sets": results,
             "lumis_memory": lumis_memory,
         }
         args.json.write_text(json.dumps(record, indent=2) + "\n")

@@ -102,23 +102,16 @@ pub fn build(bounds: &[Aabb], slots: &[u8], opts: &BuildOptions) -> Bvh {
     if bounds.is_empty() {
         return Bvh::from_parts(Vec::new(), Vec::new());
     }
-    let mut refs: Vec<Ref> = if slots.is_empty() {
-        bounds.iter().map(|b| Ref::new(b, SHARED_SLOTS)).collect()
-    } else {
-        bounds
-            .iter()
-            .zip(slots)
-            .map(|(b, &s)| Ref::new(b, s))
-            .collect()
-    };
+    let ref_of = |p: usize| Ref::new(&bounds[p], slots.get(p).copied().unwrap_or(SHARED_SLOTS));
     let builder = Builder {
         max_leaf: opts.max_leaf_size.max(1),
         #[cfg(target_arch = "x86_64")]
         avx2: std::arch::is_x86_feature_detected!("avx2"),
     };
     if opts.quality == BuildQuality::Fast {
-        return treelets::build(refs, opts, &builder);
+        return treelets::build(bounds, ref_of, opts, &builder);
     }
+    let mut refs: Vec<Ref> = (0..bounds.len()).map(ref_of).collect();
     let mut ids: Vec<u32> = (0..bounds.len() as u32).collect();
     let (all, centroids, slots) = scan(&refs);
     let span = Span {

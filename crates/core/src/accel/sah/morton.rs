@@ -2,28 +2,33 @@
 //! curve through their centroids, and that order cut into clusters of nearby primitives at the
 //! curve's own octree boundaries.
 
-use super::boxes::{Centroids, Ref};
-use crate::math::Vec3A;
+use super::boxes::Centroids;
+use crate::math::{Aabb, Vec3A};
 
 /// Bits per axis of a code: 1,024 cells along each, 30 bits in all.
 const BITS: u32 = 10;
 /// Bits sorted per radix pass: three passes over 30 bits, 1,024 counters (4 KiB, in L1).
 const RADIX: u32 = 10;
 
-/// The primitives of `refs` in Morton order of their centroids (quantised over the centroid
-/// bounds `cb` into cubic cells), with their codes in that order. Equal codes keep their input order, so the
-/// order depends on nothing but the input.
-pub(super) fn sorted(refs: &[Ref], cb: &Centroids) -> (Vec<u32>, Vec<u32>) {
+/// The primitives with boxes `bounds` in Morton order of their centroids (quantised over the
+/// centroids' bounds into cubic cells), with their codes in that order. Equal codes keep their
+/// input order, so the order depends on nothing but the input.
+pub(super) fn sorted(bounds: &[Aabb]) -> (Vec<u32>, Vec<u32>) {
+    // Doubled centroids, as the builder's (`Ref::centroid2`): the factor cancels in the scale.
+    let centroid2 = |b: &Aabb| Vec3A::from(b.min) + Vec3A::from(b.max);
+    let cb = bounds
+        .iter()
+        .fold(Centroids::EMPTY, |c, b| c.grow(centroid2(b)));
     // One scale for all axes, so that the octree's cells are cubes: scaled per axis, a flat
     // model's cells would be slabs across its thin axis, and clusters slices of its surface.
     let cells = (1u32 << BITS) as f32;
     let per_unit = cells / (cb.max - cb.min).max_element();
     // An infinite or zero extent (every centroid the same) puts all of them in cell 0.
     let scale = if per_unit.is_finite() { per_unit } else { 0.0 };
-    let codes: Vec<u32> = refs
+    let codes: Vec<u32> = bounds
         .iter()
-        .map(|r| {
-            let at = ((r.centroid2() - cb.min) * scale).min(Vec3A::splat(cells - 1.0));
+        .map(|b| {
+            let at = ((centroid2(b) - cb.min) * scale).min(Vec3A::splat(cells - 1.0));
             // `as` saturates: a NaN or negative offset (from rounding) lands in cell 0.
             interleave(at.x as u32) | interleave(at.y as u32) << 1 | interleave(at.z as u32) << 2
         })
