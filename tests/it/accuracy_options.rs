@@ -3,6 +3,7 @@
 //! origins, cutoff cuts reflection branches (and 0 changes nothing).
 
 use crate::common;
+use crate::npy_rays::write_rays;
 
 use lumis_core::accel::{AccelKind, BuildOptions};
 use lumis_core::geometry::{Offset, Precision};
@@ -180,21 +181,6 @@ fn precision_and_offset_reach_the_hit_queries() {
             assert!(e[4] < 0.0 && b[4] < 0.0, "far side below the ground");
         }
     }
-}
-
-/// Writes rays as the `(N, 8)` float32 `.npy` array `lumis hits --rays` reads.
-fn write_rays(path: &Path, rays: &[[f32; 8]]) {
-    use npyz::WriterBuilder;
-    let mut bytes = Vec::new();
-    let mut w = npyz::WriteOptions::<f32>::new()
-        .default_dtype()
-        .shape(&[rays.len() as u64, 8])
-        .writer(&mut bytes)
-        .begin_nd()
-        .unwrap();
-    w.extend(rays.iter().flatten().copied()).unwrap();
-    w.finish().unwrap();
-    std::fs::write(path, bytes).unwrap();
 }
 
 /// Reads an `(N, C)` float32 `.npy` array `lumis hits` wrote, checking its width.

@@ -1,6 +1,7 @@
 //! `lumis hits`: known answers on a unit sphere and a quad, misses, any-hit, bad input,
 //! `--triangles-out`, and thread-count independence.
 
+use crate::npy_rays::write_rays;
 use npyz::WriterBuilder;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -52,11 +53,6 @@ fn write_npy<T: npyz::Serialize + npyz::AutoSerialize + Copy>(
     w.extend(data.iter().copied()).unwrap();
     w.finish().unwrap();
     std::fs::write(path, bytes).unwrap();
-}
-
-fn write_rays(path: &Path, rays: &[[f32; 8]]) {
-    let flat: Vec<f32> = rays.iter().flatten().copied().collect();
-    write_npy(path, &[rays.len() as u64, 8], &flat);
 }
 
 /// Reads a float32 2-D array: (shape, rows).
@@ -291,10 +287,15 @@ fn repeat_and_rebuild_run_again_and_timings_list_each_run() {
     }
     assert_eq!(runs.len(), 3, "{json}");
     assert!(runs.iter().all(|&s| s >= 0.0 && s.is_finite()), "{json}");
-    let builds = parsed["build_runs_s"].as_array().expect("build_runs_s is a list");
+    let builds = parsed["build_runs_s"]
+        .as_array()
+        .expect("build_runs_s is a list");
     assert_eq!(builds.len(), 2, "{json}");
     assert_eq!(builds[0], parsed["build_s"], "{json}");
-    assert!(parsed["sah_cost"].as_f64().is_some_and(|c| c >= 1.0), "{json}");
+    assert!(
+        parsed["sah_cost"].as_f64().is_some_and(|c| c >= 1.0),
+        "{json}"
+    );
     let o = run_hits(&scene, &rays_path, &thrice, &["--repeat", "0"]);
     assert!(!o.status.success(), "--repeat 0 must be refused");
     let o = run_hits(&scene, &rays_path, &thrice, &["--rebuild", "0"]);

@@ -3,7 +3,7 @@
 //! answers, the first hit of each ray equal to the nearest-hit row, thread-count
 //! independence, and `--all --any-hit` refused.
 
-use npyz::WriterBuilder;
+use crate::npy_rays::write_rays;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -36,19 +36,6 @@ fn setup() -> (tempfile::TempDir, PathBuf) {
     let scene = dir.path().join("scene.toml");
     std::fs::write(&scene, SCENE).unwrap();
     (dir, scene)
-}
-
-fn write_rays(path: &Path, rays: &[[f32; 8]]) {
-    let mut bytes = Vec::new();
-    let mut w = npyz::WriteOptions::<f32>::new()
-        .default_dtype()
-        .shape(&[rays.len() as u64, 8])
-        .writer(&mut bytes)
-        .begin_nd()
-        .unwrap();
-    w.extend(rays.iter().flatten().copied()).unwrap();
-    w.finish().unwrap();
-    std::fs::write(path, bytes).unwrap();
 }
 
 /// Reads a float32 2-D array: (shape, rows).

@@ -3,6 +3,7 @@
 //! [`common`]. `cargo test NAME` still selects tests by name, e.g. `cargo test hard_cases::`.
 
 mod common;
+mod npy_rays;
 /// The `queries` fuzz target's checker, shared by `fuzz_regressions` and `query_fuzz`.
 #[path = "../../fuzz/src/queries/mod.rs"]
 mod queries;
@@ -40,6 +41,7 @@ mod non_regular_files;
 mod obj_mtl;
 mod output_safety;
 mod output_targets;
+mod packets;
 mod paper_scenes;
 mod png_output;
 mod query_fuzz;

@@ -4,9 +4,9 @@
 //! any finite origin are answered, also through `lumis hits`, and far ones exactly.
 
 use crate::common;
+use crate::npy_rays::write_rays;
 
 use common::hostile::gltf_with;
-use npyz::WriterBuilder;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -108,19 +108,6 @@ fn cameras_of_every_format_meet_the_same_domain() {
         e.contains("scene.gltf") && e.contains("field of view") && e.contains("[1e-7, 180)"),
         "{e}"
     );
-}
-
-fn write_rays(path: &Path, rays: &[[f32; 8]]) {
-    let mut out = Vec::new();
-    let mut w = npyz::WriteOptions::<f32>::new()
-        .default_dtype()
-        .shape(&[rays.len() as u64, 8])
-        .writer(&mut out)
-        .begin_nd()
-        .unwrap();
-    w.extend(rays.iter().flatten().copied()).unwrap();
-    w.finish().unwrap();
-    std::fs::write(path, out).unwrap();
 }
 
 /// Runs `lumis hits` in `dir` with `args` (after `hits`), which must succeed, and returns the

@@ -25,7 +25,7 @@
 
 use rayon::prelude::*;
 
-use crate::accel::{Hit, TraversalStats};
+use crate::accel::{Hit, PACKET, Traced, TraversalStats};
 use crate::geometry::Primitive;
 use crate::math::{Ray, Vec3};
 use crate::scene::domain::{RayError, check_ray};
@@ -245,6 +245,38 @@ pub fn trace_rays_into<B: RayBatch + ?Sized>(
     )
 }
 
+/// [`trace_rays_into`] of nearest hits, with consecutive groups of [`PACKET`] rays walked
+/// together as packets where they can be (one origin, one direction sign per axis: a pinhole
+/// camera's tiles, as the renderer traces a pixel's samples; other groups go one ray at a
+/// time). The records are the same bit for bit; only the time differs.
+pub fn trace_packets_into<B: RayBatch + ?Sized>(
+    world: &World,
+    rays: &B,
+    records: &mut Vec<HitRecord>,
+) {
+    records.clear();
+    records.resize(rays.len(), HitRecord::MISS);
+    records
+        .par_chunks_mut(PACKET)
+        .with_min_len(CHUNK / PACKET)
+        .enumerate()
+        .for_each_init(TraversalStats::default, |stats, (k, out)| {
+            let packet: [Ray; PACKET] =
+                std::array::from_fn(|i| rays.ray((k * PACKET + i).min(rays.len() - 1)));
+            let packet = &packet[..out.len()];
+            let mut traced = [None; PACKET];
+            if world.trace_packet(packet, stats, &mut traced) {
+                for (o, t) in out.iter_mut().zip(traced) {
+                    *o = t.map_or(HitRecord::MISS, |t| traced_record(world, &t));
+                }
+            } else {
+                for (o, ray) in out.iter_mut().zip(packet) {
+                    *o = record(world, ray, false, stats);
+                }
+            }
+        });
+}
+
 /// For every ray, the spawn origins of its hit (see the module docs); rays that miss get `inf`.
 pub fn spawn_rows<B: RayBatch + ?Sized>(world: &World, rays: &B) -> Vec<[f32; SPAWN_COLUMNS]> {
     let offset = world.scene().settings().offset;
@@ -292,11 +324,16 @@ fn record(world: &World, ray: &Ray, any_hit: bool, stats: &mut TraversalStats) -
             None => HitRecord::MISS,
         };
     }
+    match world.trace(ray, stats) {
+        Some(traced) => traced_record(world, &traced),
+        None => HitRecord::MISS,
+    }
+}
+
+/// The record of a nearest hit.
+fn traced_record(world: &World, traced: &Traced) -> HitRecord {
     let scene = world.scene();
     let g = scene.geometry();
-    let Some(traced) = world.trace(ray, stats) else {
-        return HitRecord::MISS;
-    };
     // The normal on the ray the hit was found on (a far ray's was moved near the scene).
     let Hit { prim, hit } = traced.hit;
     HitRecord {
@@ -305,7 +342,7 @@ fn record(world: &World, ray: &Ray, any_hit: bool, stats: &mut TraversalStats) -
         object: Some(scene.object_of(prim)),
         u: hit.u,
         v: hit.v,
-        normal: world.geometric_normal(&traced),
+        normal: world.geometric_normal(traced),
         // A hit from the packed leaves is a triangle; only others read the primitive list.
         kind: Some(match traced.slot {
             Some(_) => PrimKind::Triangle,

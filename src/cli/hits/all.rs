@@ -11,11 +11,25 @@
 
 use super::records::{HitsError, stage_rows};
 use lumis_core::batch::{
-    AllHitRecord, HitRecord, RayRow, trace_all_hits, trace_rays, trace_rays_into,
+    AllHitRecord, HitRecord, RayRow, trace_all_hits, trace_packets_into, trace_rays,
+    trace_rays_into,
 };
 use lumis_core::scene::World;
 use lumis_io::output::StagedOutputs;
 use std::path::Path;
+
+/// Which query `lumis hits` runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Query {
+    /// The nearest hit, one ray at a time.
+    Nearest,
+    /// The nearest hit, groups of eight rays walked as packets where they can be (`--packets`).
+    Packets,
+    /// Any hit (`--any-hit`).
+    AnyHit,
+    /// Every hit (`--all`).
+    All,
+}
 
 /// What `--out` receives: one record per ray, or with `--all` one per hit.
 pub enum HitRows {
@@ -30,14 +44,18 @@ impl HitRows {
     /// [`trace_rays`]; the result does not depend on the thread count. Into this value's memory
     /// where it can (`--repeat`: each run after the first then times the queries, not fresh
     /// page faults for the records).
-    pub fn retrace(self, world: &World, rays: &[RayRow], any_hit: bool, all: bool) -> Self {
-        match (self, all) {
-            (_, true) => Self::All(trace_all_hits(world, rays)),
-            (Self::Nearest(mut records), false) => {
-                trace_rays_into(world, rays, any_hit, &mut records);
+    pub fn retrace(self, world: &World, rays: &[RayRow], query: Query) -> Self {
+        match (self, query) {
+            (_, Query::All) => Self::All(trace_all_hits(world, rays)),
+            (Self::Nearest(mut records), Query::Packets) => {
+                trace_packets_into(world, rays, &mut records);
                 Self::Nearest(records)
             }
-            (Self::All(_), false) => Self::Nearest(trace_rays(world, rays, any_hit)),
+            (Self::Nearest(mut records), query) => {
+                trace_rays_into(world, rays, query == Query::AnyHit, &mut records);
+                Self::Nearest(records)
+            }
+            (Self::All(_), query) => Self::Nearest(trace_rays(world, rays, query == Query::AnyHit)),
         }
     }
 

@@ -5,7 +5,7 @@
 
 use super::PackedWatertight;
 use super::packed::NO_SLOT;
-use super::{Accel, Hit, PrimHit, Structure, Traversal, TraversalStats, leaves};
+use super::{Accel, Hit, PACKET, PrimHit, Structure, Traversal, TraversalStats, leaves};
 use crate::geometry::{Geometry, Precision, with_prim_test};
 use crate::math::Ray;
 
@@ -81,6 +81,37 @@ impl Accel {
             return Some(Traced::on(ray, found, found.0.hit.t));
         }
         self.trace_far(geometry, precision, ray, stats)
+    }
+
+    /// [`Accel::trace_geometry`] of up to [`PACKET`] rays at once, walked together (see
+    /// `wide::packet`): each ray's answer into `out`, bit for bit what `trace_geometry` gives
+    /// it. `false`, with nothing written, when the rays cannot share a walk (other origins, the
+    /// far-away framing, another precision or structure): trace them one at a time.
+    pub fn trace_packet(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        rays: &[Ray],
+        stats: &mut TraversalStats,
+        out: &mut [Option<Traced>],
+    ) -> bool {
+        let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) else {
+            return false;
+        };
+        if rays.len() > PACKET || !rays.iter().all(|r| self.frame.holds(r.origin)) {
+            return false;
+        }
+        let mut testers: [PackedWatertight; PACKET] =
+            std::array::from_fn(|_| PackedWatertight::new(packed, geometry));
+        let mut hits = [None; PACKET];
+        if !wide.intersect_packet(rays, stats, &mut testers, &mut hits[..rays.len()]) {
+            return false;
+        }
+        for ((o, hit), (ray, tester)) in out.iter_mut().zip(&hits).zip(rays.iter().zip(&testers)) {
+            let slot = (tester.best_slot != NO_SLOT).then_some(tester.best_slot);
+            *o = hit.map(|h| Traced::on(ray, (h, slot), h.hit.t));
+        }
+        true
     }
 
     /// [`Accel::trace_geometry`] of a ray from outside the near region.

@@ -8,6 +8,7 @@
 //! exact zero, so both produce the same bits.
 
 use super::RayCounts;
+use crate::accel::PACKET;
 use crate::effects::{Analysis, EffectMode, MaterialTraits};
 use crate::geometry::{Offset, SurfacePoint};
 use crate::light::LightSample;
@@ -29,7 +30,7 @@ pub struct Whitted<'a> {
 }
 
 /// Radiance along a camera ray, and whether it saw anything (for alpha).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CameraSample {
     /// Incoming radiance.
     pub radiance: Vec3,
@@ -70,7 +71,31 @@ impl<'a> Whitted<'a> {
     /// Radiance arriving along camera ray `ray`.
     pub fn camera_ray(&self, ray: &Ray, counts: &mut RayCounts) -> CameraSample {
         counts.camera += 1;
-        match self.world.intersect(ray, &mut counts.traversal) {
+        let hit = self.world.intersect(ray, &mut counts.traversal);
+        self.camera_sample(ray, hit, counts)
+    }
+
+    /// [`Whitted::camera_ray`] of each of `rays` (up to [`PACKET`]) into `out`, their nearest
+    /// hits found together where they can be ([`World::intersect_packet`]); the same samples.
+    pub fn camera_rays(&self, rays: &[Ray], counts: &mut RayCounts, out: &mut [CameraSample]) {
+        counts.camera += rays.len() as u64;
+        let mut hits = [None; PACKET];
+        let hits = &mut hits[..rays.len()];
+        self.world
+            .intersect_packet(rays, &mut counts.traversal, hits);
+        for ((o, ray), hit) in out.iter_mut().zip(rays).zip(hits.iter()) {
+            *o = self.camera_sample(ray, *hit, counts);
+        }
+    }
+
+    /// The sample of camera ray `ray` that found `hit`.
+    fn camera_sample(
+        &self,
+        ray: &Ray,
+        hit: Option<Interaction>,
+        counts: &mut RayCounts,
+    ) -> CameraSample {
+        match hit {
             Some(hit) => CameraSample {
                 radiance: if self.all {
                     self.shade::<true>(ray, &hit, 0, 1.0, counts)

@@ -2,11 +2,12 @@
 //! progress reported to whoever listens ([`ProgressSink`]: the command line draws a bar), and the
 //! only place the film is written.
 
+use crate::accel::PACKET;
 use crate::cryptomatte::{Mattes, PixelSamples, Rank};
 use crate::effects::{Analysis, EffectMode};
 use crate::film::{Film, PixelAov, PixelWindow};
-use crate::integrator::{RayCounts, Whitted};
-use crate::math::{Vec2, Vec3, Vec4};
+use crate::integrator::{CameraSample, RayCounts, Whitted};
+use crate::math::{Ray, Vec2, Vec3, Vec4};
 use crate::rng::SampleRng;
 use crate::scene::{Interaction, Scene, SettingsError, World};
 use rayon::prelude::*;
@@ -239,11 +240,12 @@ impl Pass<'_> {
             vec![Rank::default(); n * levels],
         ];
         let mut samples = PixelSamples::default();
+        let mut rays = Vec::new();
         for (i, (x, y)) in (y0..y1)
             .flat_map(|y| (x0..x1).map(move |x| (x, y)))
             .enumerate()
         {
-            pixels.push(self.pixel(x, y, &mut samples, &mut counts));
+            pixels.push(self.pixel(x, y, &mut samples, &mut rays, &mut counts));
             if let Some(m) = self.mattes {
                 let st = self.scene.settings();
                 let total = st.spp * st.spp * self.lens_rays;
@@ -274,13 +276,16 @@ impl Pass<'_> {
         x: u32,
         y: u32,
         samples: &mut PixelSamples,
+        rays: &mut Vec<Ray>,
         counts: &mut RayCounts,
     ) -> (Vec4, PixelAov) {
         let st = self.scene.settings();
         let cam = self.scene.camera();
         let frame = self.integrator.world().accel().frame();
         let n = st.spp;
-        let mut sum = Vec4::ZERO;
+        // Every camera ray of the pixel, in sample order, then traced in packets (the samples
+        // of one pixel are the most coherent rays there are) and summed in the same order.
+        rays.clear();
         for s in 0..n * n {
             let mut rng = SampleRng::new(self.seed, x, y, s);
             let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
@@ -288,8 +293,17 @@ impl Pass<'_> {
             let film = Vec2::new(x as f32, y as f32) + (stratum + jitter) / n as f32;
             for _ in 0..self.lens_rays {
                 let lens = Vec2::new(rng.next_f32(), rng.next_f32());
-                let ray = cam.ray(frame, film, st.width, st.height, lens);
-                let sample = self.integrator.camera_ray(&ray, counts);
+                rays.push(cam.ray(frame, film, st.width, st.height, lens));
+            }
+        }
+        counts.not_traced.lens +=
+            u64::from(n * n) * u64::from(st.lens_samples.saturating_sub(self.lens_rays));
+        let mut sum = Vec4::ZERO;
+        let mut traced = [CameraSample::default(); PACKET];
+        for packet in rays.chunks(PACKET) {
+            let traced = &mut traced[..packet.len()];
+            self.integrator.camera_rays(packet, counts, traced);
+            for sample in traced.iter() {
                 match sample.object {
                     Some(object) if self.mattes.is_some() => samples.add(object),
                     None if self.transparent => continue,
@@ -299,7 +313,6 @@ impl Pass<'_> {
                     .radiance
                     .extend(if sample.opaque { 1.0 } else { 0.0 });
             }
-            counts.not_traced.lens += u64::from(st.lens_samples.saturating_sub(self.lens_rays));
         }
         let rgba = sum / (n * n * self.lens_rays) as f32;
         let aov = if self.aov {

@@ -5,7 +5,9 @@
 //! place, makes pairing a scene with another scene's accelerator impossible to write.
 
 use super::{Interaction, Scene, Settings};
-use crate::accel::{Accel, AccelKind, BuildOptions, Hit, Traced, Traversal, TraversalStats};
+use crate::accel::{
+    Accel, AccelKind, BuildOptions, Hit, PACKET, Traced, Traversal, TraversalStats,
+};
 use crate::camera::Camera;
 use crate::geometry::triangle::unit_face_normal;
 use crate::geometry::with_prim_test;
@@ -66,6 +68,47 @@ impl World {
         // trigonometric calls); elsewhere they stay 0, which nothing reads.
         let uv = self.scene.material_of(object).reads_uv();
         Some(self.interaction(&traced, uv))
+    }
+
+    /// [`World::intersect`] of each of `rays` (up to [`PACKET`]) into `out`: walked together
+    /// when they can be (the samples of a pixel from a pinhole camera), else one at a time;
+    /// the same answers either way.
+    pub fn intersect_packet(
+        &self,
+        rays: &[Ray],
+        stats: &mut TraversalStats,
+        out: &mut [Option<Interaction>],
+    ) {
+        let mut traced = [None; PACKET];
+        if !self.trace_packet(rays, stats, &mut traced) {
+            for (o, ray) in out.iter_mut().zip(rays) {
+                *o = self.intersect(ray, stats);
+            }
+            return;
+        }
+        for (o, traced) in out.iter_mut().zip(&traced[..rays.len()]) {
+            *o = traced.map(|traced| {
+                let object = self.scene.object_of(traced.hit.prim);
+                let uv = self.scene.material_of(object).reads_uv();
+                self.interaction(&traced, uv)
+            });
+        }
+    }
+
+    /// [`World::trace`] of up to [`PACKET`] rays walked together into `out` (the same answers),
+    /// or `false` with nothing written when they cannot share a walk
+    /// ([`Accel::trace_packet`]).
+    pub fn trace_packet(
+        &self,
+        rays: &[Ray],
+        stats: &mut TraversalStats,
+        out: &mut [Option<Traced>],
+    ) -> bool {
+        let precision = self.scene.settings().precision;
+        rays.len() > 1
+            && self
+                .accel
+                .trace_packet(self.scene.geometry(), precision, rays, stats, out)
     }
 
     /// The nearest hit of `ray` with the ray it was found on, before any surface is computed

@@ -12,7 +12,10 @@
 mod binary;
 mod child_test;
 mod lanes;
+mod packet;
 mod traverse;
+
+pub use packet::PACKET;
 
 use super::bvh::{Bvh, MAX_DEPTH, Node, each_once, leaf_content};
 use crate::math::{Aabb, Vec3};

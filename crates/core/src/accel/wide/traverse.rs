@@ -18,21 +18,21 @@ use crate::math::{Ray, safe_inverse};
 /// A child still to visit: what [`WideNode::child`] and [`WideNode::count`] hold for it, and
 /// the ray's conservative entry distance into its box.
 #[derive(Clone, Copy)]
-struct Entry {
-    child: u32,
-    count: u32,
-    near: f32,
+pub(super) struct Entry {
+    pub(super) child: u32,
+    pub(super) count: u32,
+    pub(super) near: f32,
 }
 
 /// A fixed stack: each level of the tree pushes at most `W - 1` entries.
-struct Stack<const N: usize> {
+pub(super) struct Stack<const N: usize> {
     items: [MaybeUninit<Entry>; N],
     len: usize,
 }
 
 impl<const N: usize> Stack<N> {
     #[inline(always)]
-    fn new() -> Self {
+    pub(super) fn new() -> Self {
         Self {
             // An array of `MaybeUninit` needs no initialisation: nothing is read before written.
             items: [const { MaybeUninit::uninit() }; N],
@@ -41,13 +41,13 @@ impl<const N: usize> Stack<N> {
     }
 
     #[inline(always)]
-    fn push(&mut self, e: Entry) {
+    pub(super) fn push(&mut self, e: Entry) {
         self.items[self.len] = MaybeUninit::new(e);
         self.len += 1;
     }
 
     #[inline(always)]
-    fn pop(&mut self) -> Option<Entry> {
+    pub(super) fn pop(&mut self) -> Option<Entry> {
         if self.len == 0 {
             return None;
         }
@@ -59,7 +59,7 @@ impl<const N: usize> Stack<N> {
 
 /// Stack capacity for widths up to 8: `W - 1` entries per level below the root, plus the
 /// root's `W`.
-const STACK: usize = 7 * MAX_DEPTH + 8;
+pub(super) const STACK: usize = 7 * MAX_DEPTH + 8;
 
 /// Runs `$body` with `$test` bound to the child test `$ray` needs: the SIMD one of the width
 /// for ordinary rays, a lane-by-lane scalar slab test for zero or extreme direction components.
@@ -286,7 +286,7 @@ impl<const W: usize> WideBvh<W> {
 /// the time they are popped. Measured: -4% time per ray on the 69k bunny's incoherent rays,
 /// -13% on the 1.1M one's (BENCHMARKS.md, Phase 14).
 #[inline(always)]
-fn prefetch_children<const W: usize>(
+pub(super) fn prefetch_children<const W: usize>(
     nodes: &[WideNode<W>],
     node: &WideNode<W>,
     mask: u32,
@@ -309,7 +309,7 @@ fn prefetch_children<const W: usize>(
 
 /// Pushes the entered lanes of `node` farthest first and returns the nearest, to visit next.
 #[inline(always)]
-fn push_entered<const W: usize, const N: usize>(
+pub(super) fn push_entered<const W: usize, const N: usize>(
     node: &WideNode<W>,
     mask: u32,
     near: &[f32; W],

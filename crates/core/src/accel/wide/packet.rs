@@ -1,0 +1,203 @@
+//! Nearest hits of a packet of up to [`PACKET`] rays from one origin, walked together: the
+//! samples of one pixel from a pinhole camera. One SIMD test per node decides for the whole
+//! packet, on the bounds of its rays' reciprocal directions (an interval per axis); each ray
+//! then tests the leaves the packet reaches with its own leaf tester.
+//!
+//! Why the answers stay exact: for one origin, a child box's entry distance on each axis,
+//! `(plane - o) * inv` rounded as the single-ray test rounds it ([`super::child_test`]), is
+//! monotone in `inv`, so its smallest value over the packet is the one at an end of the
+//! interval; likewise the largest exit. The packet enters a box whenever any of its rays' own
+//! tests would, so every ray reaches (at least) every leaf its single walk reaches, and extra
+//! leaves only offer primitives that brute force tests too. Nearest hits do not depend on the
+//! order primitives are offered in ([`crate::accel::Closest`]), so each ray's answer is bit for
+//! bit its single walk's. Rays the interval cannot describe (another origin, a direction sign
+//! differing within the packet, a zero or extreme component) are refused: the caller walks
+//! them one at a time.
+
+use super::WideBvh;
+use super::traverse::{Entry, STACK, Stack, prefetch_children, push_entered};
+use crate::accel::bvh::CullBound;
+use crate::accel::leaves::ClosestLeaves;
+use crate::accel::{Closest, Hit, TraversalStats};
+use crate::math::slab::SlabKind;
+use crate::math::{ROBUST_BOX_SCALE, Ray, safe_inverse};
+
+/// Rays per packet: one AVX2 register of lanes.
+pub const PACKET: usize = 8;
+
+/// What the packet's node test needs: the shared origin, per axis the interval of the rays'
+/// reciprocal directions (one sign) and the plane the rays enter by, and the loosest of the
+/// rays' culling bounds below.
+#[derive(Clone, Copy)]
+struct Frustum {
+    origin: [f32; 3],
+    inv_lo: [f32; 3],
+    inv_hi: [f32; 3],
+    near_plane: [usize; 3],
+    t_min: f32,
+}
+
+impl Frustum {
+    /// The packet's constants, or `None` when its rays cannot share a walk (see the module).
+    fn new(rays: &[Ray], culls: &[CullBound]) -> Option<Self> {
+        let first = rays.first()?;
+        let origin = first.origin;
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let mut t_min = f32::INFINITY;
+        for (ray, cull) in rays.iter().zip(culls) {
+            let inv = safe_inverse(ray.dir);
+            let same_origin =
+                ray.origin.to_array().map(f32::to_bits) == origin.to_array().map(f32::to_bits);
+            if !same_origin || SlabKind::with_inverse(ray, inv) != SlabKind::Finite {
+                return None;
+            }
+            for a in 0..3 {
+                lo[a] = lo[a].min(inv[a]);
+                hi[a] = hi[a].max(inv[a]);
+            }
+            t_min = t_min.min(cull.lower(ray.t_min));
+        }
+        // One sign per axis: the interval must not hold zero (and the near plane is shared).
+        if (0..3).any(|a| (lo[a] < 0.0) != (hi[a] < 0.0)) {
+            return None;
+        }
+        let plane = |a: usize| if lo[a] >= 0.0 { 0 } else { 1 };
+        Some(Self {
+            origin: origin.to_array(),
+            inv_lo: lo,
+            inv_hi: hi,
+            near_plane: [plane(0), 2 + plane(1), 4 + plane(2)],
+            t_min,
+        })
+    }
+}
+
+impl WideBvh<8> {
+    /// The nearest hit of each of `rays` (at most [`PACKET`]) into `out`, each ray's leaves
+    /// tested by its own tester in `testers`; `false` (nothing written) when the packet cannot
+    /// be walked together and the rays must go one at a time.
+    pub(crate) fn intersect_packet<L: ClosestLeaves>(
+        &self,
+        rays: &[Ray],
+        stats: &mut TraversalStats,
+        testers: &mut [L],
+        out: &mut [Option<Hit>],
+    ) -> bool {
+        debug_assert!(rays.len() <= PACKET && testers.len() >= rays.len());
+        #[cfg(target_arch = "x86_64")]
+        if super::child_test::has_avx2() && !self.nodes.is_empty() && rays.len() > 1 {
+            // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
+            return unsafe { self.packet_avx2(rays, stats, testers, out) };
+        }
+        let _ = (rays, stats, testers, out);
+        false
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+    unsafe fn packet_avx2<L: ClosestLeaves>(
+        &self,
+        rays: &[Ray],
+        stats: &mut TraversalStats,
+        testers: &mut [L],
+        out: &mut [Option<Hit>],
+    ) -> bool {
+        let n = rays.len();
+        let culls: [CullBound; PACKET] = std::array::from_fn(|i| {
+            let ray = &rays[i.min(n - 1)];
+            CullBound::with_inverse(ray, &self.bounds, safe_inverse(ray.dir).to_array())
+        });
+        let Some(frustum) = Frustum::new(rays, &culls[..n]) else {
+            return false;
+        };
+        let mut closest: [Closest; PACKET] =
+            std::array::from_fn(|i| Closest::new(&rays[i.min(n - 1)]));
+        // The loosest of the rays' culling bounds: a box beyond it is beyond every ray's.
+        let bound = |closest: &[Closest]| {
+            closest[..n]
+                .iter()
+                .zip(&culls)
+                .fold(f32::NEG_INFINITY, |m, (c, cull)| {
+                    m.max(cull.widen(c.ray.t_max))
+                })
+        };
+        let mut t_max = bound(&closest);
+        let mut stack = Stack::<STACK>::new();
+        let mut current = Entry {
+            child: 0,
+            count: 0,
+            near: frustum.t_min,
+        };
+        loop {
+            if current.count == 0 {
+                let node = &self.nodes[current.child as usize];
+                stats.nodes_visited += 1;
+                let (mask, near) = frustum_test(&frustum, node, t_max);
+                prefetch_children(&self.nodes, node, mask, &testers[0]);
+                if let Some(next) = push_entered(node, mask, &near, &mut stack) {
+                    current = next;
+                    continue;
+                }
+            } else {
+                let first = current.child as usize;
+                if let Some(prims) = self.prim_order.get(first..first + current.count as usize) {
+                    for i in 0..n {
+                        // Only rays that may still hit something in the leaf test it.
+                        if current.near <= culls[i].widen(closest[i].ray.t_max) {
+                            testers[i].closest(current.child, prims, &mut closest[i], stats);
+                        }
+                    }
+                    t_max = bound(&closest);
+                }
+            }
+            loop {
+                let Some(e) = stack.pop() else {
+                    for (o, c) in out.iter_mut().zip(&closest[..n]) {
+                        *o = c.best;
+                    }
+                    return true;
+                };
+                if e.near <= t_max {
+                    current = e;
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// The packet's test of all children of `node`: a lane is entered when the smallest entry of
+/// any ray (per axis, at an end of the reciprocal interval) is below the largest exit, widened
+/// and clamped as the single-ray test widens and clamps (to the loosest bound, `t_max`).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+fn frustum_test(f: &Frustum, node: &super::WideNode<8>, t_max: f32) -> (u32, [f32; 8]) {
+    use std::arch::x86_64::*;
+    let p = &node.planes;
+    // SAFETY: each plane row is 8 contiguous f32 (unaligned loads).
+    let load = |i: usize| unsafe { _mm256_loadu_ps(p[i].as_ptr()) };
+    let axis = |a: usize| {
+        let org = _mm256_set1_ps(f.origin[a]);
+        let (lo, hi) = (_mm256_set1_ps(f.inv_lo[a]), _mm256_set1_ps(f.inv_hi[a]));
+        // The same subtraction as every ray's test, then both ends of the interval.
+        let d_near = _mm256_sub_ps(load(f.near_plane[a]), org);
+        let d_far = _mm256_sub_ps(load(f.near_plane[a] ^ 1), org);
+        let near = _mm256_min_ps(_mm256_mul_ps(d_near, lo), _mm256_mul_ps(d_near, hi));
+        let far = _mm256_max_ps(_mm256_mul_ps(d_far, lo), _mm256_mul_ps(d_far, hi));
+        (near, far)
+    };
+    let ((nx, fx), (ny, fy), (nz, fz)) = (axis(0), axis(1), axis(2));
+    let near = _mm256_max_ps(
+        _mm256_max_ps(nx, ny),
+        _mm256_max_ps(nz, _mm256_set1_ps(f.t_min)),
+    );
+    let far = _mm256_min_ps(_mm256_min_ps(fx, fy), fz);
+    let widened = _mm256_max_ps(far, _mm256_mul_ps(far, _mm256_set1_ps(ROBUST_BOX_SCALE)));
+    let far = _mm256_min_ps(widened, _mm256_set1_ps(t_max));
+    let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(near, far)) as u32;
+    let mut out = [0.0f32; 8];
+    // SAFETY: `out` holds 8 f32.
+    unsafe { _mm256_storeu_ps(out.as_mut_ptr(), near) };
+    (mask, out)
+}
