@@ -12,7 +12,9 @@
 mod binary;
 mod child_test;
 mod lanes;
+mod nearest;
 mod traverse;
+mod walk;
 
 use super::bvh::{Bvh, MAX_DEPTH, Node, each_once, leaf_content};
 use crate::math::{Aabb, Vec3};
