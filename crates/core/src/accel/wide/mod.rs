@@ -11,10 +11,13 @@
 
 mod binary;
 mod child_test;
+mod in_flight;
 mod lanes;
 mod nearest;
 mod traverse;
 mod walk;
+
+pub(crate) use in_flight::NearestQueries;
 
 use super::bvh::{Bvh, MAX_DEPTH, Node, each_once, leaf_content};
 use crate::math::{Aabb, Vec3};

@@ -1,7 +1,7 @@
 //! The closest-hit walk as a resumable state machine: [`NearestWalk::step`] does one node
 //! visit or one leaf test and says whether the ray is done. The one-ray walk is a loop of
-//! steps; a walk of several rays at once can take the steps of each in turn, and as long as
-//! each ray's steps keep their order its hit is the same bits.
+//! steps; the batch walk ([`super::in_flight`]) takes the steps of several rays in turn.
+//! Both run the same steps in the same order for a ray, so its hit is the same bits.
 //!
 //! The walk tests all children of a node at once, continues with the nearest entered child
 //! and pushes the others farthest first, each with its entry distance; a popped entry is
@@ -37,6 +37,12 @@ pub(super) struct NearestWalk<T> {
 }
 
 impl<T> NearestWalk<T> {
+    /// Whether the next step visits a node (else it tests a leaf).
+    #[inline(always)]
+    pub(super) fn at_node(&self) -> bool {
+        self.count == 0
+    }
+
     /// The best hit so far (the answer once [`NearestWalk::step`] has said done).
     #[inline(always)]
     pub(super) fn best(&self) -> Option<Hit> {
