@@ -15,6 +15,7 @@ mod all_hits;
 mod assets_render;
 mod bad_input;
 mod bad_input_deps;
+mod batch_in_flight;
 mod cli;
 mod cli_exr;
 mod cli_flags;

@@ -4,8 +4,10 @@
 //! far away (the hit's `t` is then mapped back to the caller's ray), or not at all.
 
 use super::PackedWatertight;
-use super::packed::NO_SLOT;
-use super::{Accel, Hit, PACKET, PrimHit, Structure, Traversal, TraversalStats, leaves};
+use super::wide::NearestQueries;
+use super::{
+    Accel, Hit, PACKET, PackedLeaves, PrimHit, Structure, Traversal, TraversalStats, leaves,
+};
 use crate::geometry::{Geometry, Precision, with_prim_test};
 use crate::math::Ray;
 
@@ -108,10 +110,39 @@ impl Accel {
             return false;
         }
         for ((o, hit), (ray, tester)) in out.iter_mut().zip(&hits).zip(rays.iter().zip(&testers)) {
-            let slot = (tester.best_slot != NO_SLOT).then_some(tester.best_slot);
+            let slot = tester.best_slot();
             *o = hit.map(|h| Traced::on(ray, (h, slot), h.hit.t));
         }
         true
+    }
+
+    /// [`Accel::trace_geometry`] of every ray `rays` yields, each answer given to `answer`
+    /// with the ray's id, with up to `K` rays walked at once on this thread (see
+    /// `wide::in_flight`; `K = 1`: one at a time). The answers are those of
+    /// [`Accel::trace_geometry`], bit for bit, in the order the rays finish.
+    pub fn trace_geometry_each<const K: usize, Id: Copy>(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        stats: &mut TraversalStats,
+        mut rays: impl FnMut() -> Option<(Id, Ray)>,
+        mut answer: impl FnMut(Id, Option<Traced>),
+    ) {
+        if let (Precision::Watertight, Some((wide, packed)), true) =
+            (precision, self.packed(), K > 1)
+        {
+            let mut queries = PackedQueries {
+                accel: self,
+                geometry,
+                packed,
+                rays,
+                answer,
+            };
+            return wide.intersect_in_flight::<K, _>(&mut queries, stats);
+        }
+        while let Some((id, ray)) = rays() {
+            answer(id, self.trace_geometry(geometry, precision, &ray, stats));
+        }
     }
 
     /// [`Accel::trace_geometry`] of a ray from outside the near region.
@@ -143,7 +174,7 @@ impl Accel {
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
             let mut test = PackedWatertight::new(packed, geometry);
             let hit = wide.intersect(ray, stats, &mut test)?;
-            return Some((hit, (test.best_slot != NO_SLOT).then_some(test.best_slot)));
+            return Some((hit, test.best_slot()));
         }
         // One traversal instantiation per precision, chosen once per ray.
         let hit = with_prim_test!(geometry, precision, ray, |test| self
@@ -276,5 +307,46 @@ impl Accel {
                 b.occluded_segments(ray, p, stats, test)
             }
         }
+    }
+}
+
+/// The rays of [`Accel::trace_geometry_each`] through the packed leaves: those the frame
+/// holds go to the batch walk, the others are traced on the way, as `trace_geometry` would.
+struct PackedQueries<'a, R, A> {
+    accel: &'a Accel,
+    geometry: &'a Geometry,
+    packed: &'a PackedLeaves,
+    rays: R,
+    answer: A,
+}
+
+impl<'a, Id, R, A> NearestQueries for PackedQueries<'a, R, A>
+where
+    Id: Copy,
+    R: FnMut() -> Option<(Id, Ray)>,
+    A: FnMut(Id, Option<Traced>),
+{
+    type Id = Id;
+    type Leaves = PackedWatertight<'a>;
+
+    #[inline(always)]
+    fn next(&mut self, stats: &mut TraversalStats) -> Option<(Id, Ray, PackedWatertight<'a>)> {
+        loop {
+            let (id, ray) = (self.rays)()?;
+            if self.accel.frame.holds(ray.origin) {
+                return Some((id, ray, PackedWatertight::new(self.packed, self.geometry)));
+            }
+            let far = self
+                .accel
+                .trace_far(self.geometry, Precision::Watertight, &ray, stats);
+            (self.answer)(id, far);
+        }
+    }
+
+    #[inline(always)]
+    fn answer(&mut self, id: Id, ray: &Ray, hit: Option<Hit>, leaves: &PackedWatertight<'a>) {
+        // As `trace_geometry` answers a ray the frame holds.
+        let traced = hit.map(|h| Traced::on(ray, (h, leaves.best_slot()), h.hit.t));
+        (self.answer)(id, traced);
     }
 }

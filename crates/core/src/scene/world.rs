@@ -119,6 +119,25 @@ impl World {
             .trace_geometry(self.scene.geometry(), precision, ray, stats)
     }
 
+    /// [`World::trace`] of every ray `rays` yields, with up to `K` rays walked at once on this
+    /// thread (see [`Accel::trace_geometry_each`]); each answer goes to `answer` with its
+    /// ray's id, in the order the rays finish.
+    pub fn trace_each<const K: usize, Id: Copy>(
+        &self,
+        stats: &mut TraversalStats,
+        rays: impl FnMut() -> Option<(Id, Ray)>,
+        answer: impl FnMut(Id, Option<Traced>),
+    ) {
+        let precision = self.scene.settings().precision;
+        self.accel.trace_geometry_each::<K, Id>(
+            self.scene.geometry(),
+            precision,
+            stats,
+            rays,
+            answer,
+        )
+    }
+
     /// The unit geometric normal of a traced hit (see `Geometry::geometric_normal`): from the
     /// packed leaves' copy of the triangle when the hit was found there, the same bits, without
     /// the dependent reads of the primitive list, the index buffer and the vertices.

@@ -102,11 +102,11 @@ pub(crate) struct PackedWatertight<'a> {
     /// The shear and the group test's constants, from the first leaf on.
     shear: Option<(WatertightRay, GroupTest)>,
     /// Where in the leaf order the best hit so far lies ([`NO_SLOT`] before one).
-    pub(crate) best_slot: u32,
+    best_slot: u32,
 }
 
 /// [`PackedWatertight::best_slot`] of a query without a hit.
-pub(crate) const NO_SLOT: u32 = u32::MAX;
+const NO_SLOT: u32 = u32::MAX;
 
 impl<'a> PackedWatertight<'a> {
     /// The test over `packed`, built from `geometry` (which holds the spheres).
@@ -118,6 +118,12 @@ impl<'a> PackedWatertight<'a> {
             shear: None,
             best_slot: NO_SLOT,
         }
+    }
+
+    /// Where in the leaf order the best hit so far lies, if it is a triangle.
+    #[inline(always)]
+    pub(crate) fn best_slot(&self) -> Option<u32> {
+        (self.best_slot != NO_SLOT).then_some(self.best_slot)
     }
 
     /// Calls `f(prim, slot, hit)` for every hit in the leaf at `first` with `count` entries

@@ -50,24 +50,32 @@ impl<const W: usize, S: Slab> ChildTest<W> for LaneByLane<S> {
     }
 }
 
-/// Per-ray constants of the SIMD tests: origin, reciprocal direction, and for each axis which
-/// plane (0 = min, 1 = max) the ray enters by.
+/// Per-ray constants of the SIMD tests: origin, reciprocal direction, and for each axis
+/// the plane the ray enters by and the one it leaves by.
 #[derive(Clone, Copy)]
 pub(crate) struct Octant {
     origin: [f32; 3],
     inv: [f32; 3],
-    near_plane: [usize; 3],
+    /// Byte offsets into [`WideNode::planes`] of the entry and exit plane rows of x, y, z (an
+    /// offset each, ready to add to the node's address: the batch walk reloads them at every
+    /// node, where a plane index cost a bounds check or a shift and a flip per axis).
+    /// Invariant: each is `32 * row` for a row below 6.
+    row_bytes: [u32; 6],
 }
 
 impl Octant {
     /// For a ray whose reciprocal direction `inv` is finite and non-zero in every component.
     #[inline(always)]
     pub(crate) fn new(ray: &Ray, inv: [f32; 3]) -> Self {
-        let plane = |a: usize| if inv[a] >= 0.0 { 0 } else { 1 };
         Self {
             origin: ray.origin.to_array(),
             inv,
-            near_plane: [plane(0), 2 + plane(1), 4 + plane(2)],
+            row_bytes: std::array::from_fn(|k| {
+                let (axis, exit) = (k / 2, k % 2 == 1);
+                let enters_by_max = inv[axis] < 0.0;
+                let row = 2 * axis + (enters_by_max != exit) as usize;
+                (row * size_of::<[f32; 8]>()) as u32
+            }),
         }
     }
 }
@@ -96,13 +104,13 @@ impl ChildTest<8> for Avx2 {
 #[inline]
 fn avx2_test(o: &Octant, node: &WideNode<8>, t_min: f32, t_max: f32) -> (u32, [f32; 8]) {
     use std::arch::x86_64::*;
-    let p = &node.planes;
-    // SAFETY: each plane row is 8 contiguous f32 (unaligned loads).
-    let load = |i: usize| unsafe { _mm256_loadu_ps(p[i].as_ptr()) };
+    let p = node.planes.as_ptr().cast::<u8>();
+    // SAFETY: every offset is that of a row of 8 f32 inside `planes` (the `Octant` invariant).
+    let load = |k: usize| unsafe { _mm256_loadu_ps(p.add(o.row_bytes[k] as usize).cast()) };
     let axis = |a: usize| {
         let (org, inv) = (_mm256_set1_ps(o.origin[a]), _mm256_set1_ps(o.inv[a]));
-        let near = _mm256_mul_ps(_mm256_sub_ps(load(o.near_plane[a]), org), inv);
-        let far = _mm256_mul_ps(_mm256_sub_ps(load(o.near_plane[a] ^ 1), org), inv);
+        let near = _mm256_mul_ps(_mm256_sub_ps(load(2 * a), org), inv);
+        let far = _mm256_mul_ps(_mm256_sub_ps(load(2 * a + 1), org), inv);
         (near, far)
     };
     let ((nx, fx), (ny, fy), (nz, fz)) = (axis(0), axis(1), axis(2));

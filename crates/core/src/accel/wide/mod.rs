@@ -11,9 +11,14 @@
 
 mod binary;
 mod child_test;
+mod in_flight;
 mod lanes;
+mod nearest;
 mod packet;
 mod traverse;
+mod walk;
+
+pub(crate) use in_flight::NearestQueries;
 
 pub use packet::PACKET;
 

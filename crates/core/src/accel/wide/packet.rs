@@ -15,7 +15,7 @@
 //! them one at a time.
 
 use super::WideBvh;
-use super::traverse::{Entry, STACK, Stack, prefetch_children, push_entered};
+use super::walk::{Entry, STACK, Stack, prefetch_children, push_entered};
 use crate::accel::bvh::CullBound;
 use crate::accel::leaves::ClosestLeaves;
 use crate::accel::{Closest, Hit, TraversalStats};

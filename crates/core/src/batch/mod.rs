@@ -23,7 +23,11 @@
 //!
 //! The float rows store ids as float32, exact up to 2^24; [`HitRecord`] holds them exactly.
 
+mod records;
+
 use rayon::prelude::*;
+
+pub use records::{AllHitRecord, HitRecord, PrimKind};
 
 use crate::accel::{Hit, PACKET, Traced, TraversalStats};
 use crate::geometry::Primitive;
@@ -51,6 +55,14 @@ pub type HitRow = [f32; HIT_COLUMNS];
 
 /// Rays per parallel work item: large enough to amortise scheduling, small enough to balance.
 const CHUNK: usize = 1024;
+
+/// Nearest-hit rays walked at once on each thread ([`World::trace_each`]): while one ray
+/// waits for the nodes it is about to visit, the others take their steps. Time per ray against
+/// one at a time on the 1.1M-triangle bunny (a hierarchy far larger than the caches):
+/// incoherent -37 to -52%, camera -27 to -45% (one at a time varies with the other core's
+/// memory traffic, this does not); on the 69k bunny (in the L3) -3 to -5%; misses -5%. 12 was
+/// ~5% faster than 8 on the large bunny, 16 no faster than 12 (BENCHMARKS.md, Phase 14).
+pub const IN_FLIGHT: usize = 12;
 
 /// Rays addressed by index, read where they are (rows of a file, columns of numpy arrays).
 pub trait RayBatch: Sync {
@@ -92,99 +104,6 @@ pub fn check_rays<B: RayBatch + ?Sized>(rays: &B) -> Result<(), (usize, RayError
                 .map(|e| (i, e))
         })
         .map_or(Ok(()), Err)
-}
-
-/// Which primitive a hit is on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PrimKind {
-    /// An analytic sphere (kind 0 in the rows).
-    Sphere = 0,
-    /// A mesh triangle (kind 1 in the rows).
-    Triangle = 1,
-}
-
-impl From<Primitive> for PrimKind {
-    fn from(p: Primitive) -> Self {
-        match p {
-            Primitive::Sphere { .. } => Self::Sphere,
-            Primitive::Triangle { .. } => Self::Triangle,
-        }
-    }
-}
-
-/// One ray's answer (see the module docs): the nearest hit, an any-hit blocker's distance, or
-/// a miss.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HitRecord {
-    /// Distance along the caller's ray; `+inf` for a miss.
-    pub t: f32,
-    /// Primitive id; `None` for misses and any-hit answers.
-    pub prim: Option<u32>,
-    /// Object id (the scene's object list); `None` for misses and any-hit answers.
-    pub object: Option<u32>,
-    /// Barycentric weight of the triangle's second vertex (0 for spheres and misses).
-    pub u: f32,
-    /// Barycentric weight of the triangle's third vertex (0 for spheres and misses).
-    pub v: f32,
-    /// Unit geometric normal: outward for spheres, by winding for triangles; 0 for misses.
-    pub normal: Vec3,
-    /// The primitive's kind; `None` for misses and any-hit answers.
-    pub kind: Option<PrimKind>,
-}
-
-impl HitRecord {
-    /// No hit.
-    pub const MISS: Self = Self {
-        t: f32::INFINITY,
-        prim: None,
-        object: None,
-        u: 0.0,
-        v: 0.0,
-        normal: Vec3::ZERO,
-        kind: None,
-    };
-
-    /// The `lumis hits` row: `t`, prim id, object id, `u`, `v`, normal xyz, kind; `-1` for
-    /// what is absent (ids as float32, exact up to 2^24).
-    pub fn row(&self) -> HitRow {
-        let id = |i: Option<u32>| i.map_or(-1.0, |i| i as f32);
-        let n = self.normal;
-        [
-            self.t,
-            id(self.prim),
-            id(self.object),
-            self.u,
-            self.v,
-            n.x,
-            n.y,
-            n.z,
-            self.kind.map_or(-1.0, |k| k as u8 as f32),
-        ]
-    }
-}
-
-/// One hit of an all-hits query: the ray it belongs to, the hit, and whether it is a graze.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AllHitRecord {
-    /// Index of the ray in the batch.
-    pub ray: usize,
-    /// The hit (always with ids and kind).
-    pub hit: HitRecord,
-    /// A touch that does not cross the surface (a silhouette edge or vertex, a tangent
-    /// sphere); false for a crossing.
-    pub graze: bool,
-}
-
-impl AllHitRecord {
-    /// The `lumis hits --all` row: ray index, the [`HitRecord::row`] columns, graze (1 or 0);
-    /// the index as float32, exact up to 2^24.
-    pub fn row(&self) -> [f32; ALL_HIT_COLUMNS] {
-        let mut row = [0.0; ALL_HIT_COLUMNS];
-        row[0] = self.ray as f32;
-        row[1..=HIT_COLUMNS].copy_from_slice(&self.hit.row());
-        row[HIT_COLUMNS + 1] = if self.graze { 1.0 } else { 0.0 };
-        row
-    }
 }
 
 /// Every hit along every ray ([`World::all_hits`]) in parallel on the current rayon pool, in
@@ -238,11 +157,38 @@ pub fn trace_rays_into<B: RayBatch + ?Sized>(
     any_hit: bool,
     records: &mut Vec<HitRecord>,
 ) {
-    trace_all(
-        rays,
-        |ray, stats| record(world, ray, any_hit, stats),
-        records,
-    )
+    if any_hit {
+        return trace_all(
+            rays,
+            |ray, stats| blocker_record(world, ray, stats),
+            records,
+        );
+    }
+    trace_nearest_into::<IN_FLIGHT, B>(world, rays, records)
+}
+
+/// [`trace_rays_into`] of nearest hits with up to `K` rays walked at once on each thread
+/// ([`World::trace_each`]; `K = 1`: one at a time, as a render traces). The records are the
+/// same for every `K`; public so tests and benchmarks can compare them.
+pub fn trace_nearest_into<const K: usize, B: RayBatch + ?Sized>(
+    world: &World,
+    rays: &B,
+    records: &mut Vec<HitRecord>,
+) {
+    records.clear();
+    records.resize(rays.len(), HitRecord::MISS);
+    records.par_chunks_mut(CHUNK).enumerate().for_each_init(
+        TraversalStats::default,
+        |stats, (c, out)| {
+            let first = c * CHUNK;
+            let mut next = 0..out.len();
+            world.trace_each::<K, usize>(
+                stats,
+                || next.next().map(|i| (i, rays.ray(first + i))),
+                |i, traced| out[i] = nearest_record(world, traced),
+            );
+        },
+    );
 }
 
 /// [`trace_rays_into`] of nearest hits, with consecutive groups of [`PACKET`] rays walked
@@ -267,11 +213,11 @@ pub fn trace_packets_into<B: RayBatch + ?Sized>(
             let mut traced = [None; PACKET];
             if world.trace_packet(packet, stats, &mut traced) {
                 for (o, t) in out.iter_mut().zip(traced) {
-                    *o = t.map_or(HitRecord::MISS, |t| traced_record(world, &t));
+                    *o = nearest_record(world, t);
                 }
             } else {
                 for (o, ray) in out.iter_mut().zip(packet) {
-                    *o = record(world, ray, false, stats);
+                    *o = nearest_record(world, world.trace(ray, stats));
                 }
             }
         });
@@ -312,28 +258,25 @@ fn trace_all<B: RayBatch + ?Sized, T: Send>(
         .collect_into_vec(out);
 }
 
-/// The record of one ray: the scene's own nearest-hit query, or for `any_hit` only the
-/// distance of the blocker the any-hit traversal stopped at.
-fn record(world: &World, ray: &Ray, any_hit: bool, stats: &mut TraversalStats) -> HitRecord {
-    if any_hit {
-        return match world.first_blocker(ray, stats) {
-            Some(t) => HitRecord {
-                t,
-                ..HitRecord::MISS
-            },
-            None => HitRecord::MISS,
-        };
-    }
-    match world.trace(ray, stats) {
-        Some(traced) => traced_record(world, &traced),
+/// The record of an any-hit query of `ray`: only the distance of the blocker the traversal
+/// stopped at.
+fn blocker_record(world: &World, ray: &Ray, stats: &mut TraversalStats) -> HitRecord {
+    match world.first_blocker(ray, stats) {
+        Some(t) => HitRecord {
+            t,
+            ..HitRecord::MISS
+        },
         None => HitRecord::MISS,
     }
 }
 
-/// The record of a nearest hit.
-fn traced_record(world: &World, traced: &Traced) -> HitRecord {
+/// The record of a nearest-hit query answered by the scene's own query ([`World::trace`]).
+fn nearest_record(world: &World, traced: Option<Traced>) -> HitRecord {
     let scene = world.scene();
     let g = scene.geometry();
+    let Some(traced) = traced else {
+        return HitRecord::MISS;
+    };
     // The normal on the ray the hit was found on (a far ray's was moved near the scene).
     let Hit { prim, hit } = traced.hit;
     HitRecord {
@@ -342,7 +285,7 @@ fn traced_record(world: &World, traced: &Traced) -> HitRecord {
         object: Some(scene.object_of(prim)),
         u: hit.u,
         v: hit.v,
-        normal: world.geometric_normal(traced),
+        normal: world.geometric_normal(&traced),
         // A hit from the packed leaves is a triangle; only others read the primitive list.
         kind: Some(match traced.slot {
             Some(_) => PrimKind::Triangle,
@@ -388,24 +331,6 @@ pub fn sphere_rows(scene: &Scene) -> Vec<[f32; SPHERE_COLUMNS]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn rows_mark_what_is_absent_with_minus_one() {
-        assert_eq!(
-            HitRecord::MISS.row(),
-            [f32::INFINITY, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]
-        );
-        let hit = HitRecord {
-            t: 2.5,
-            prim: Some(7),
-            object: Some(1),
-            u: 0.25,
-            v: 0.5,
-            normal: Vec3::new(0.0, 0.0, 1.0),
-            kind: Some(PrimKind::Triangle),
-        };
-        assert_eq!(hit.row(), [2.5, 7.0, 1.0, 0.25, 0.5, 0.0, 0.0, 1.0, 1.0]);
-    }
 
     #[test]
     fn check_rays_names_the_first_bad_ray() {

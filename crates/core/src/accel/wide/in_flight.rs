@@ -1,0 +1,158 @@
+//! Several closest-hit walks in flight on one thread, for batches of independent rays: each
+//! ray advances up to its next node visit (which starts loading the children it entered) and
+//! then the next ray takes its turn, so the loads one ray waits for overlap the other rays'
+//! work instead of stalling the thread. A finished ray's lane takes the next ray of the batch.
+//!
+//! Each ray takes the steps of its one-ray walk ([`NearestWalk`]) in the same order, only
+//! interleaved with other rays', so every answer is the one-ray walk's, bit for bit.
+
+use super::WideBvh;
+use super::nearest::{NearestStack, NearestWalk};
+use crate::accel::leaves::ClosestLeaves;
+use crate::accel::{Hit, TraversalStats};
+use crate::math::Ray;
+
+/// Where the rays of a batch walk come from and where their answers go.
+pub(crate) trait NearestQueries {
+    /// What names a ray to its answer.
+    type Id: Copy;
+    /// The leaf tester a ray is walked with.
+    type Leaves: ClosestLeaves;
+
+    /// The next ray to walk and its tester; `None` once every ray has been handed out.
+    fn next(&mut self, stats: &mut TraversalStats) -> Option<(Self::Id, Ray, Self::Leaves)>;
+
+    /// The nearest hit of ray `id` (`ray` as [`Self::next`] gave it), and its tester as the
+    /// walk left it.
+    fn answer(&mut self, id: Self::Id, ray: &Ray, hit: Option<Hit>, leaves: &Self::Leaves);
+}
+
+impl WideBvh<8> {
+    /// Answers every ray of `queries` with up to `K` walks in flight (`K = 1`: one ray at a
+    /// time). Without AVX2 the rays are walked one at a time.
+    pub(crate) fn intersect_in_flight<const K: usize, Q: NearestQueries>(
+        &self,
+        queries: &mut Q,
+        stats: &mut TraversalStats,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if K > 1 && super::child_test::has_avx2() {
+            // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
+            return unsafe { self.in_flight_avx2::<K, Q>(queries, stats) };
+        }
+        while let Some((id, ray, mut leaves)) = queries.next(stats) {
+            let hit = self.intersect(&ray, stats, &mut leaves);
+            queries.answer(id, &ray, hit, &leaves);
+        }
+    }
+
+    /// The interleaved walks, compiled for AVX2 like the one-ray walk.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+    unsafe fn in_flight_avx2<const K: usize, Q: NearestQueries>(
+        &self,
+        queries: &mut Q,
+        stats: &mut TraversalStats,
+    ) {
+        // Lane by lane: an array constant was copied whole, unused stack space included.
+        let mut lanes: [Lane<Q>; K] = std::array::from_fn(|_| Lane {
+            stack: NearestStack::new(),
+            ray: None,
+        });
+        let mut live = 0;
+        for lane in &mut lanes {
+            lane.ray = self.start_next(queries, &mut lane.stack, stats);
+            live += lane.ray.is_some() as usize;
+        }
+        while live > 0 {
+            for lane in &mut lanes {
+                let Some(r) = &mut lane.ray else { continue };
+                // Up to and including the next node visit, which starts the loads this ray
+                // waits for next; the entries a leaf test pops were prefetched at their
+                // parent's visit (switching after leaf tests too measured 2-3% slower).
+                let mut going = true;
+                let mut visited_node = false;
+                while going && !visited_node {
+                    visited_node = r.walk.at_node();
+                    going = r.walk.step(self, &mut lane.stack, &mut r.leaves, stats);
+                }
+                if going {
+                    continue;
+                }
+                queries.answer(r.id, &r.ray, r.walk.best(), &r.leaves);
+                lane.ray = self.start_next(queries, &mut lane.stack, stats);
+                live -= lane.ray.is_none() as usize;
+            }
+        }
+    }
+
+    /// The walk of the next ray that takes the AVX2 child test, started on `stack`. Rays
+    /// that need another test (a zero or extreme direction component) are rare: they are
+    /// walked whole, one at a time, on the way.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn start_next<Q: NearestQueries>(
+        &self,
+        queries: &mut Q,
+        stack: &mut NearestStack,
+        stats: &mut TraversalStats,
+    ) -> Option<InFlight<Q>> {
+        use super::child_test::{Avx2, Octant};
+        use crate::math::safe_inverse;
+        use crate::math::slab::SlabKind;
+        loop {
+            let (id, ray, leaves) = queries.next(stats)?;
+            // As `intersect_avx2` chooses, so the walk is the one-ray walk's.
+            let inv = safe_inverse(ray.dir);
+            if let SlabKind::Finite = SlabKind::with_inverse(&ray, inv) {
+                let test = Avx2(Octant::new(&ray, inv.to_array()));
+                match NearestWalk::start(self, test, &ray, stack) {
+                    Some(walk) => {
+                        return Some(InFlight {
+                            id,
+                            ray,
+                            leaves,
+                            walk,
+                        });
+                    }
+                    None => queries.answer(id, &ray, None, &leaves),
+                }
+                continue;
+            }
+            self.intersect_one(queries, id, &ray, leaves, stats);
+        }
+    }
+
+    /// One ray walked whole: kept out of line so the rare rays that need it do not bloat
+    /// the batch walk's loop.
+    #[cold]
+    #[inline(never)]
+    fn intersect_one<Q: NearestQueries>(
+        &self,
+        queries: &mut Q,
+        id: Q::Id,
+        ray: &Ray,
+        mut leaves: Q::Leaves,
+        stats: &mut TraversalStats,
+    ) {
+        let hit = self.intersect(ray, stats, &mut leaves);
+        queries.answer(id, ray, hit, &leaves);
+    }
+}
+
+/// One of the batch walk's places for a ray: the stack, which stays put (5 KB), and the ray
+/// in flight there, if any.
+#[cfg(target_arch = "x86_64")]
+struct Lane<Q: NearestQueries> {
+    stack: NearestStack,
+    ray: Option<InFlight<Q>>,
+}
+
+/// A ray in flight: its name, the ray, its tester and its walk.
+#[cfg(target_arch = "x86_64")]
+struct InFlight<Q: NearestQueries> {
+    id: Q::Id,
+    ray: Ray,
+    leaves: Q::Leaves,
+    walk: NearestWalk<super::child_test::Avx2>,
+}

@@ -1,0 +1,121 @@
+//! The answers of batch queries and their float rows (see the module docs of [`super`]).
+
+use super::{ALL_HIT_COLUMNS, HIT_COLUMNS, HitRow};
+use crate::geometry::Primitive;
+use crate::math::Vec3;
+
+/// Which primitive a hit is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrimKind {
+    /// An analytic sphere (kind 0 in the rows).
+    Sphere = 0,
+    /// A mesh triangle (kind 1 in the rows).
+    Triangle = 1,
+}
+
+impl From<Primitive> for PrimKind {
+    fn from(p: Primitive) -> Self {
+        match p {
+            Primitive::Sphere { .. } => Self::Sphere,
+            Primitive::Triangle { .. } => Self::Triangle,
+        }
+    }
+}
+
+/// One ray's answer (see the module docs): the nearest hit, an any-hit blocker's distance, or
+/// a miss.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HitRecord {
+    /// Distance along the caller's ray; `+inf` for a miss.
+    pub t: f32,
+    /// Primitive id; `None` for misses and any-hit answers.
+    pub prim: Option<u32>,
+    /// Object id (the scene's object list); `None` for misses and any-hit answers.
+    pub object: Option<u32>,
+    /// Barycentric weight of the triangle's second vertex (0 for spheres and misses).
+    pub u: f32,
+    /// Barycentric weight of the triangle's third vertex (0 for spheres and misses).
+    pub v: f32,
+    /// Unit geometric normal: outward for spheres, by winding for triangles; 0 for misses.
+    pub normal: Vec3,
+    /// The primitive's kind; `None` for misses and any-hit answers.
+    pub kind: Option<PrimKind>,
+}
+
+impl HitRecord {
+    /// No hit.
+    pub const MISS: Self = Self {
+        t: f32::INFINITY,
+        prim: None,
+        object: None,
+        u: 0.0,
+        v: 0.0,
+        normal: Vec3::ZERO,
+        kind: None,
+    };
+
+    /// The `lumis hits` row: `t`, prim id, object id, `u`, `v`, normal xyz, kind; `-1` for
+    /// what is absent (ids as float32, exact up to 2^24).
+    pub fn row(&self) -> HitRow {
+        let id = |i: Option<u32>| i.map_or(-1.0, |i| i as f32);
+        let n = self.normal;
+        [
+            self.t,
+            id(self.prim),
+            id(self.object),
+            self.u,
+            self.v,
+            n.x,
+            n.y,
+            n.z,
+            self.kind.map_or(-1.0, |k| k as u8 as f32),
+        ]
+    }
+}
+
+/// One hit of an all-hits query: the ray it belongs to, the hit, and whether it is a graze.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AllHitRecord {
+    /// Index of the ray in the batch.
+    pub ray: usize,
+    /// The hit (always with ids and kind).
+    pub hit: HitRecord,
+    /// A touch that does not cross the surface (a silhouette edge or vertex, a tangent
+    /// sphere); false for a crossing.
+    pub graze: bool,
+}
+
+impl AllHitRecord {
+    /// The `lumis hits --all` row: ray index, the [`HitRecord::row`] columns, graze (1 or 0);
+    /// the index as float32, exact up to 2^24.
+    pub fn row(&self) -> [f32; ALL_HIT_COLUMNS] {
+        let mut row = [0.0; ALL_HIT_COLUMNS];
+        row[0] = self.ray as f32;
+        row[1..=HIT_COLUMNS].copy_from_slice(&self.hit.row());
+        row[HIT_COLUMNS + 1] = if self.graze { 1.0 } else { 0.0 };
+        row
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_mark_what_is_absent_with_minus_one() {
+        assert_eq!(
+            HitRecord::MISS.row(),
+            [f32::INFINITY, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]
+        );
+        let hit = HitRecord {
+            t: 2.5,
+            prim: Some(7),
+            object: Some(1),
+            u: 0.25,
+            v: 0.5,
+            normal: Vec3::new(0.0, 0.0, 1.0),
+            kind: Some(PrimKind::Triangle),
+        };
+        assert_eq!(hit.row(), [2.5, 7.0, 1.0, 0.25, 0.5, 0.0, 0.0, 1.0, 1.0]);
+    }
+}
