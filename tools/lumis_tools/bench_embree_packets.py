@@ -141,6 +141,60 @@ def parse_args(argv=None):
     return args
 
 
+def tile_order(width, height):
+    """The pixel indices of a row-major `width` x `height` grid in the order lumis-8 traces
+    them: the 4 x 2 tiles of `packet_lanes` (the Embree packets), each tile's pixels listed
+    consecutively, lanes in packet order. The full tiles come first, in the packets' order, so
+    each group of 8 consecutive rays from the start (lumis's packets: rays 8k to 8k + 7) is
+    exactly one tile; the partly filled tiles of a ragged right or bottom edge (W not a
+    multiple of 4, H not of 2) follow, their valid pixels only, so that there groups of 8 mix
+    tiles. Where W % 4 == 0 and H % 2 == 0 every tile is full and the order is that of the
+    packets. A permutation of range(width * height), int64."""
+    lanes = packet_lanes(width, height)
+    full = (lanes >= 0).all(axis=1)
+    ragged = lanes[~full]
+    return np.concatenate([lanes[full].ravel(), ragged[ragged >= 0]]).astype(np.int64)
+
+
+def from_tile_order(rows, order):
+    """`rows` traced in `order` (tile_order) back in pixel order: row i of the result is the
+    row of pixel i."""
+    out = np.empty_like(rows)
+    out[order] = rows
+    return out
+
+
+def packet_groups(rays):
+    """(groups, of which sharing an origin and direction signs): lumis's groups of 8
+    consecutive `(N, 8)` rays (the last may be shorter) and how many of them have one origin
+    (bit for bit) and, on each axis, one nonzero direction sign: the groups `lumis hits
+    --packets` can walk together rather than one ray at a time (short groups of one ray
+    are not counted as sharing)."""
+    n = len(rays)
+    groups = -(-n // 8)
+    idx = np.minimum(np.arange(groups * 8), n - 1).reshape(groups, 8)  # as lumis pads
+    bits = np.ascontiguousarray(rays, np.float32).view(np.uint32)[idx]
+    dirs = np.ascontiguousarray(rays, np.float32)[idx][:, :, 3:6]
+    same_origin = (bits[:, :, 0:3] == bits[:, :1, 0:3]).all(axis=(1, 2))
+    sign = np.sign(dirs)
+    same_sign = ((sign == sign[:, :1]) & (sign != 0)).all(axis=(1, 2))
+    several = np.minimum(8, n - 8 * np.arange(groups)) > 1
+    return groups, int((same_origin & same_sign & several).sum())
+
+
+def same_rows(a, b):
+    """Rows of lumis hit records `a` and `b` ((N, 9) float32) that differ in any column bit
+    for bit (so NaN equals NaN of the same bits, -0 differs from 0), and per column the count
+    of rays whose value differs."""
+    a, b = np.ascontiguousarray(a, np.float32), np.ascontiguousarray(b, np.float32)
+    if a.shape != b.shape:
+        return {"rays": len(a), "rows_differ": max(len(a), len(b)), "columns_differ": [],
+                "shapes": [list(a.shape), list(b.shape)]}
+    diff = a.view(np.uint32) != b.view(np.uint32)
+    return {"rays": len(a), "rows_differ": int(diff.any(axis=1).sum()),
+            "columns_differ": [int(c) for c in diff.sum(axis=0)]}
+
+
 def same_hits(a, b):
     """Counts of rays where the hit records `a` and `b` (embree_native.RECORD arrays) differ:
     in t (bit for bit, so inf equals inf and -0 differs from 0), in primID, in geomID."""
