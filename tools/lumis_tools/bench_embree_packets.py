@@ -93,8 +93,14 @@ from .bench_instructions import callgrind  # noqa: E402
 from .embree import EmbreeScene  # noqa: E402
 from .embree_native import RECORD, Helper, NativeEmbree, packet_lanes  # noqa: E402
 
-ENGINES = ("embree-1", "embree-8", "embree-8c", "embreex-1", "lumis")
+ENGINES = ("embree-1", "embree-8", "embree-8c", "embreex-1", "lumis", "lumis-8")
 PACKETS = ("embree-8", "embree-8c")
+LUMIS_PACKETS = ["--packets"]  # lumis-8's flag, after --lumis-args
+# Ratios of throughput printed: (numerator engine, denominator engine).
+RATIOS = (("lumis", "embree-1"), ("lumis", "embree-8"), ("lumis", "embree-8c"),
+          ("lumis-8", "embree-1"), ("lumis-8", "embree-8"), ("lumis-8", "embree-8c"),
+          ("lumis-8", "lumis"), ("embree-8", "embree-1"), ("embree-8c", "embree-1"),
+          ("embree-1", "embreex-1"))
 MIN_HIT_MISS = 0.9999
 
 
@@ -277,6 +283,13 @@ def main(argv=None):
 
 
 def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinned):
+    w, h = args.camera_size
+    order = tile_order(w, h)
+    tiled = np.ascontiguousarray(rays[order])
+    groups, walkable = packet_groups(tiled)
+    print(f"lumis-8: the rays in tile order, {groups:,} groups of 8 consecutive rays, "
+          f"{walkable:,} with one origin and one direction sign per axis (the rest are traced "
+          f"one ray at a time)", flush=True)
     lumis_run.use(args.lumis)
     exe = lumis_run.binary()
     rev = lumis_revision(args.lumis)
@@ -292,7 +305,7 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
           f"robust={robust}, native 8-wide packets: {bool(embree.property(33))}; commit "
           f"{build[0] * 1e3:.1f} ms (CPU {build[1] * 1e3:.1f} ms)")
     print(f"lumis: {exe} ({rev}), args: hits --threads 1 --repeat 2 "
-          f"{' '.join(lumis_extra)}".rstrip())
+          f"{' '.join(lumis_extra)}".rstrip() + "; lumis-8 adds " + " ".join(LUMIS_PACKETS))
     print(f"median of {args.runs} interleaved rounds", flush=True)
 
     def embreex_pass():
@@ -304,14 +317,19 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
         rec["u"], rec["v"], rec["ng"] = out["u"], out["v"], out["Ng"]
         return t, share * t, rec
 
-    def lumis_pass():
+    def lumis_pass(packets=False):
         # lumis reports wall times; its share of the CPU is the process's CPU time (children's
         # rusage) over its wall time, loading and building included.
         wall, cpu = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
-        lh = run_lumis(lumis_scene, rays, 2, lumis_extra)
+        if packets:  # the tile-ordered rays; the rows back in pixel order
+            lh = run_lumis(lumis_scene, tiled, 2, lumis_extra + LUMIS_PACKETS)
+            rows = from_tile_order(lh.rows, order)
+        else:
+            lh = run_lumis(lumis_scene, rays, 2, lumis_extra)
+            rows = lh.rows
         wall, after = time.perf_counter() - wall, resource.getrusage(resource.RUSAGE_CHILDREN)
         used = after.ru_utime + after.ru_stime - cpu.ru_utime - cpu.ru_stime
-        return lh.timings["trace_s"][1], used / wall, lh.rows
+        return lh.timings["trace_s"][1], used / wall, rows
 
     passes = {
         "embree-1": lambda: embree.trace1(rays),
@@ -324,8 +342,8 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
     last = {}
     for round_no in range(args.runs):
         for engine in rotated(ENGINES, round_no):
-            if engine == "lumis":  # its --repeat 2 makes the warm-up pass
-                t, share, last[engine] = lumis_pass()
+            if engine in ("lumis", "lumis-8"):  # their --repeat 2 makes the warm-up pass
+                t, share, last[engine] = lumis_pass(packets=engine == "lumis-8")
             else:
                 passes[engine]()  # warm-up
                 t, cpu, last[engine] = passes[engine]()
@@ -339,15 +357,9 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
     med = {e: statistics.median(times[e]) for e in ENGINES}
     best = {e: min(times[e]) for e in ENGINES}
     mrays = {e: n / med[e] / 1e6 for e in ENGINES}
-    ratios = {
-        "lumis/embree-1": med["embree-1"] / med["lumis"],
-        "lumis/embree-8": med["embree-8"] / med["lumis"],
-        "lumis/embree-8c": med["embree-8c"] / med["lumis"],
-        "embree-8/embree-1": med["embree-1"] / med["embree-8"],
-        "embree-8c/embree-1": med["embree-1"] / med["embree-8c"],
-        "embree-1/embreex-1": med["embreex-1"] / med["embree-1"],
-    }
-    ratios_best = {k: best[k.split("/")[1]] / best[k.split("/")[0]] for k in ratios}
+    # Throughput of a over b: b's seconds over a's.
+    ratios = {f"{a}/{b}": med[b] / med[a] for a, b in RATIOS}
+    ratios_best = {f"{a}/{b}": best[b] / best[a] for a, b in RATIOS}
     checks = {e: same_hits(last[e], last["embree-1"]) for e in (*PACKETS, "embreex-1")}
     # embreex's t_max is 3e38 where the rays say inf (lumis_tools/embree.py): its misses'
     # t differs by design, so only its hits' t are compared.
@@ -355,12 +367,14 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
     hit = e1["geom"] != -1
     checks["embreex-1"]["t_differs"] = int((e1["t"][hit] != ex["t"][hit]).sum())
     lumis_agree = agreement(as_embreex(e1), last["lumis"])
+    packets_same = same_rows(last["lumis-8"], last["lumis"])
 
     labels = {"embree-1": "Embree rtcIntersect1 (C loop)",
               "embree-8": "Embree rtcIntersect8, 4x2 packets",
               "embree-8c": "Embree rtcIntersect8, 4x2, COHERENT",
               "embreex-1": "Embree rtcIntersect1 (embreex loop)",
-              "lumis": "lumis hits --threads 1"}
+              "lumis": "lumis hits --threads 1",
+              "lumis-8": "lumis hits --packets, 4x2 tile order"}
     print()
     share = {e: statistics.median(shares[e]) for e in ENGINES}
     print(f"{'engine':<10} {'':<37} {'Mrays/s':>8} {'(best)':>7} {'ns/ray':>7} {'CPU share':>9}")
@@ -373,7 +387,7 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
     print()
     print("ratios of throughput (median; best):")
     for k, v in ratios.items():
-        print(f"  {k:<19} {v:6.3f}  {ratios_best[k]:6.3f}")
+        print(f"  {k:<20} {v:6.3f}  {ratios_best[k]:6.3f}")
     print("per-round seconds:")
     for e in ENGINES:
         print(f"  {e:<10} {' '.join(f'{t:.4f}' for t in times[e])}")
@@ -391,6 +405,11 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
           f"{MIN_HIT_MISS:.2%}{'' if ok else ': FAILED'}), hit rate "
           f"{lumis_agree['hit_rate_embree']:.1%}; where both hit: same triangle "
           f"{lumis_agree['same_prim']:.4%}, t within 1e-4 {lumis_agree['t_within_1e-4']:.4%}")
+    bad = packets_same["rows_differ"]
+    failed |= bad > 0
+    print(f"lumis-8 vs lumis (pixel order, whole rows bit for bit): {bad:,} of "
+          f"{packets_same['rays']:,} rows differ"
+          + ("" if bad == 0 else f" (per column {packets_same['columns_differ']})  FAILED"))
 
     if args.json:
         record = {
@@ -401,7 +420,11 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
             "lumis_rev": rev, "embree_version": version,
             "embree_commit_s": build, "seconds": times, "cpu_share": shares,
             "mrays_s": mrays, "ratios": ratios, "ratios_best": ratios_best,
-            "same_as_embree_1": checks, "lumis_agreement": lumis_agree, "failed": failed,
+            "same_as_embree_1": checks, "lumis_agreement": lumis_agree,
+            "lumis_8": {"args": lumis_extra + LUMIS_PACKETS, "groups": groups,
+                        "groups_one_origin_and_signs": walkable,
+                        "same_as_lumis": packets_same},
+            "failed": failed,
         }
         args.json.write_text(json.dumps(record, indent=2) + "\n")
     return exitcodes.FAILED if failed else exitcodes.OK
