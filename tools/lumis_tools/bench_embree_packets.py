@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Embree's 8-wide packet kernel (`rtcIntersect8`) beside its single-ray one (`rtcIntersect1`)
-and lumis, one thread each, on bench_embree's camera rays.
+and lumis's single rays and packets (`lumis hits --packets`), one thread each, on
+bench_embree's camera rays.
 
     .venv/bin/python tools/bench_embree_packets.py MODEL [--runs 5] [--camera 512x384]
         [--subdivide N] [--lumis-args ARGS] [--json out.json] [--lumis PATH]
@@ -27,7 +28,18 @@ Engines (lumis_tools/embree_native.py has the details of the Embree side):
 - embreex-1: embreex's Cython loop over rtcIntersect1 (`EmbreeScene.run`), the figure
   bench_embree reports, for reference: its loop costs more per ray than the C one;
 - lumis: one `lumis hits --threads 1 --repeat 2 --timings` process (plus --lumis-args), whose
-  second pass is timed (trace_s); the first is the warm-up.
+  second pass is timed (trace_s); the first is the warm-up. The rays in pixel order.
+- lumis-8: the same with `--packets` (after --lumis-args) on the same rays reordered into
+  Embree-8's 4 x 2 tiles (tile_order): each tile's pixels consecutively, lanes as in the
+  packet, so that lumis's packets (each group of 8 consecutive rays, traced together where
+  they share an origin and the direction signs, else one at a time) are Embree-8's packets.
+  The full tiles come first, in Embree-8's order; where W % 4 == 0 and H % 2 == 0 (the
+  default 512x384) that is every tile and every group is exactly one tile. At a ragged
+  right or bottom edge the partly filled tiles follow, their valid pixels only, so their
+  groups of 8 mix tiles: lumis answers them correctly but may walk them one ray at a time
+  (Embree-8 masks their empty lanes instead). lumis-8's records are mapped back to pixel
+  order before they are compared. How many groups share an origin and direction signs is
+  printed.
 Every Embree loop fills each ray and the hit's invalid ids from the float32 (N, 8) rays and
 writes t, primID, geomID, u, v and Ng per ray, as lumis writes its hit rows, so the engines'
 times cover the same work. The native engines share one scene (robust, as bench_embree's;
@@ -43,9 +55,14 @@ CPU and stretched the times, and "best" is the more telling figure. This process
 last allowed one) before Embree is loaded, so TBB (and the lumis processes, which inherit the
 mask) stay on it; --no-pin leaves the mask alone.
 
+Ratios of throughput: lumis and lumis-8 over each Embree loop, lumis-8 over lumis, the packets
+over Embree-1 and Embree-1 over embreex-1 (median; best beside).
+
 Checks (exit 1 when one fails): the packet engines' hits equal Embree-1's exactly (t, primID and
 geomID of every ray); lumis agrees with Embree-1 on hit or miss for at least 99.99% of the rays
-(the same-triangle and t agreement are printed beside it, as bench_embree prints them).
+(the same-triangle and t agreement are printed beside it, as bench_embree prints them);
+lumis-8's records, in pixel order, equal lumis's bit for bit (the whole row: t, primitive,
+object, u, v, normal, kind; a NaN equals a NaN of the same bits), as `--packets` promises.
 
 --instructions instead counts instructions per ray under callgrind (valgrind): rtcIntersect1
 and rtcIntersect8 alone (--toggle-collect), in the loops above, as bench_instructions counts
@@ -53,8 +70,9 @@ Embree. valgrind has no AVX-512, so Embree runs its AVX2 kernels there.
 
 Needs numpy, embreex, trimesh (for --subdivide), a C compiler (`$CC`, else cc, gcc or clang)
 and the lumis binary (--lumis PATH, $LUMIS_BIN, or target/release/lumis as bench_embree finds
-it). With the defaults on 2 cores a run takes about 3 s on the 69k-triangle bunny and 10 s
-on the 1.1M one; --instructions about 15 s and 60 s.
+it; lumis-8 needs one with `hits --packets`). With the defaults on 2 cores a run takes about
+3 s on the 69k-triangle bunny and 10 s on the 1.1M one without lumis-8, which adds its
+process per round; --instructions about 15 s and 60 s.
 """
 
 from __future__ import annotations
