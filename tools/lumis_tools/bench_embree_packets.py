@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Embree's 8-wide packet kernel (`rtcIntersect8`) beside its single-ray one (`rtcIntersect1`)
-and lumis, one thread each, on bench_embree's camera rays.
+and lumis's single rays and packets (`lumis hits --packets`), one thread each, on
+bench_embree's camera rays.
 
     .venv/bin/python tools/bench_embree_packets.py MODEL [--runs 5] [--camera 512x384]
         [--subdivide N] [--lumis-args ARGS] [--json out.json] [--lumis PATH]
@@ -27,7 +28,18 @@ Engines (lumis_tools/embree_native.py has the details of the Embree side):
 - embreex-1: embreex's Cython loop over rtcIntersect1 (`EmbreeScene.run`), the figure
   bench_embree reports, for reference: its loop costs more per ray than the C one;
 - lumis: one `lumis hits --threads 1 --repeat 2 --timings` process (plus --lumis-args), whose
-  second pass is timed (trace_s); the first is the warm-up.
+  second pass is timed (trace_s); the first is the warm-up. The rays in pixel order.
+- lumis-8: the same with `--packets` (after --lumis-args) on the same rays reordered into
+  Embree-8's 4 x 2 tiles (tile_order): each tile's pixels consecutively, lanes as in the
+  packet, so that lumis's packets (each group of 8 consecutive rays, traced together where
+  they share an origin and the direction signs, else one at a time) are Embree-8's packets.
+  The full tiles come first, in Embree-8's order; where W % 4 == 0 and H % 2 == 0 (the
+  default 512x384) that is every tile and every group is exactly one tile. At a ragged
+  right or bottom edge the partly filled tiles follow, their valid pixels only, so their
+  groups of 8 mix tiles: lumis answers them correctly but may walk them one ray at a time
+  (Embree-8 masks their empty lanes instead). lumis-8's records are mapped back to pixel
+  order before they are compared. How many groups share an origin and direction signs is
+  printed.
 Every Embree loop fills each ray and the hit's invalid ids from the float32 (N, 8) rays and
 writes t, primID, geomID, u, v and Ng per ray, as lumis writes its hit rows, so the engines'
 times cover the same work. The native engines share one scene (robust, as bench_embree's;
@@ -43,9 +55,14 @@ CPU and stretched the times, and "best" is the more telling figure. This process
 last allowed one) before Embree is loaded, so TBB (and the lumis processes, which inherit the
 mask) stay on it; --no-pin leaves the mask alone.
 
+Ratios of throughput: lumis and lumis-8 over each Embree loop, lumis-8 over lumis, the packets
+over Embree-1 and Embree-1 over embreex-1 (median; best beside).
+
 Checks (exit 1 when one fails): the packet engines' hits equal Embree-1's exactly (t, primID and
 geomID of every ray); lumis agrees with Embree-1 on hit or miss for at least 99.99% of the rays
-(the same-triangle and t agreement are printed beside it, as bench_embree prints them).
+(the same-triangle and t agreement are printed beside it, as bench_embree prints them);
+lumis-8's records, in pixel order, equal lumis's bit for bit (the whole row: t, primitive,
+object, u, v, normal, kind; a NaN equals a NaN of the same bits), as `--packets` promises.
 
 --instructions instead counts instructions per ray under callgrind (valgrind): rtcIntersect1
 and rtcIntersect8 alone (--toggle-collect), in the loops above, as bench_instructions counts
@@ -53,8 +70,9 @@ Embree. valgrind has no AVX-512, so Embree runs its AVX2 kernels there.
 
 Needs numpy, embreex, trimesh (for --subdivide), a C compiler (`$CC`, else cc, gcc or clang)
 and the lumis binary (--lumis PATH, $LUMIS_BIN, or target/release/lumis as bench_embree finds
-it). With the defaults on 2 cores a run takes about 3 s on the 69k-triangle bunny and 10 s
-on the 1.1M one; --instructions about 15 s and 60 s.
+it; lumis-8 needs one with `hits --packets`). With the defaults on 2 cores a run takes about
+3 s on the 69k-triangle bunny and 10 s on the 1.1M one without lumis-8, which adds its
+process per round; --instructions about 15 s and 60 s.
 """
 
 from __future__ import annotations
@@ -93,8 +111,14 @@ from .bench_instructions import callgrind  # noqa: E402
 from .embree import EmbreeScene  # noqa: E402
 from .embree_native import RECORD, Helper, NativeEmbree, packet_lanes  # noqa: E402
 
-ENGINES = ("embree-1", "embree-8", "embree-8c", "embreex-1", "lumis")
+ENGINES = ("embree-1", "embree-8", "embree-8c", "embreex-1", "lumis", "lumis-8")
 PACKETS = ("embree-8", "embree-8c")
+LUMIS_PACKETS = ["--packets"]  # lumis-8's flag, after --lumis-args
+# Ratios of throughput printed: (numerator engine, denominator engine).
+RATIOS = (("lumis", "embree-1"), ("lumis", "embree-8"), ("lumis", "embree-8c"),
+          ("lumis-8", "embree-1"), ("lumis-8", "embree-8"), ("lumis-8", "embree-8c"),
+          ("lumis-8", "lumis"), ("embree-8", "embree-1"), ("embree-8c", "embree-1"),
+          ("embree-1", "embreex-1"))
 MIN_HIT_MISS = 0.9999
 
 
@@ -139,6 +163,60 @@ def parse_args(argv=None):
     if not args.model.is_file():
         p.error(f"{args.model}: no such file")
     return args
+
+
+def tile_order(width, height):
+    """The pixel indices of a row-major `width` x `height` grid in the order lumis-8 traces
+    them: the 4 x 2 tiles of `packet_lanes` (the Embree packets), each tile's pixels listed
+    consecutively, lanes in packet order. The full tiles come first, in the packets' order, so
+    each group of 8 consecutive rays from the start (lumis's packets: rays 8k to 8k + 7) is
+    exactly one tile; the partly filled tiles of a ragged right or bottom edge (W not a
+    multiple of 4, H not of 2) follow, their valid pixels only, so that there groups of 8 mix
+    tiles. Where W % 4 == 0 and H % 2 == 0 every tile is full and the order is that of the
+    packets. A permutation of range(width * height), int64."""
+    lanes = packet_lanes(width, height)
+    full = (lanes >= 0).all(axis=1)
+    ragged = lanes[~full]
+    return np.concatenate([lanes[full].ravel(), ragged[ragged >= 0]]).astype(np.int64)
+
+
+def from_tile_order(rows, order):
+    """`rows` traced in `order` (tile_order) back in pixel order: row i of the result is the
+    row of pixel i."""
+    out = np.empty_like(rows)
+    out[order] = rows
+    return out
+
+
+def packet_groups(rays):
+    """(groups, of which sharing an origin and direction signs): lumis's groups of 8
+    consecutive `(N, 8)` rays (the last may be shorter) and how many of them have one origin
+    (bit for bit) and, on each axis, one nonzero direction sign: the groups `lumis hits
+    --packets` can walk together rather than one ray at a time (short groups of one ray
+    are not counted as sharing)."""
+    n = len(rays)
+    groups = -(-n // 8)
+    idx = np.minimum(np.arange(groups * 8), n - 1).reshape(groups, 8)  # as lumis pads
+    bits = np.ascontiguousarray(rays, np.float32).view(np.uint32)[idx]
+    dirs = np.ascontiguousarray(rays, np.float32)[idx][:, :, 3:6]
+    same_origin = (bits[:, :, 0:3] == bits[:, :1, 0:3]).all(axis=(1, 2))
+    sign = np.sign(dirs)
+    same_sign = ((sign == sign[:, :1]) & (sign != 0)).all(axis=(1, 2))
+    several = np.minimum(8, n - 8 * np.arange(groups)) > 1
+    return groups, int((same_origin & same_sign & several).sum())
+
+
+def same_rows(a, b):
+    """Rows of lumis hit records `a` and `b` ((N, 9) float32) that differ in any column bit
+    for bit (so NaN equals NaN of the same bits, -0 differs from 0), and per column the count
+    of rays whose value differs."""
+    a, b = np.ascontiguousarray(a, np.float32), np.ascontiguousarray(b, np.float32)
+    if a.shape != b.shape:
+        return {"rays": len(a), "rows_differ": max(len(a), len(b)), "columns_differ": [],
+                "shapes": [list(a.shape), list(b.shape)]}
+    diff = a.view(np.uint32) != b.view(np.uint32)
+    return {"rays": len(a), "rows_differ": int(diff.any(axis=1).sum()),
+            "columns_differ": [int(c) for c in diff.sum(axis=0)]}
 
 
 def same_hits(a, b):
@@ -223,6 +301,13 @@ def main(argv=None):
 
 
 def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinned):
+    w, h = args.camera_size
+    order = tile_order(w, h)
+    tiled = np.ascontiguousarray(rays[order])
+    groups, walkable = packet_groups(tiled)
+    print(f"lumis-8: the rays in tile order, {groups:,} groups of 8 consecutive rays, "
+          f"{walkable:,} with one origin and one direction sign per axis (the rest are traced "
+          f"one ray at a time)", flush=True)
     lumis_run.use(args.lumis)
     exe = lumis_run.binary()
     rev = lumis_revision(args.lumis)
@@ -238,7 +323,7 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
           f"robust={robust}, native 8-wide packets: {bool(embree.property(33))}; commit "
           f"{build[0] * 1e3:.1f} ms (CPU {build[1] * 1e3:.1f} ms)")
     print(f"lumis: {exe} ({rev}), args: hits --threads 1 --repeat 2 "
-          f"{' '.join(lumis_extra)}".rstrip())
+          f"{' '.join(lumis_extra)}".rstrip() + "; lumis-8 adds " + " ".join(LUMIS_PACKETS))
     print(f"median of {args.runs} interleaved rounds", flush=True)
 
     def embreex_pass():
@@ -250,14 +335,19 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
         rec["u"], rec["v"], rec["ng"] = out["u"], out["v"], out["Ng"]
         return t, share * t, rec
 
-    def lumis_pass():
+    def lumis_pass(packets=False):
         # lumis reports wall times; its share of the CPU is the process's CPU time (children's
         # rusage) over its wall time, loading and building included.
         wall, cpu = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
-        lh = run_lumis(lumis_scene, rays, 2, lumis_extra)
+        if packets:  # the tile-ordered rays; the rows back in pixel order
+            lh = run_lumis(lumis_scene, tiled, 2, lumis_extra + LUMIS_PACKETS)
+            rows = from_tile_order(lh.rows, order)
+        else:
+            lh = run_lumis(lumis_scene, rays, 2, lumis_extra)
+            rows = lh.rows
         wall, after = time.perf_counter() - wall, resource.getrusage(resource.RUSAGE_CHILDREN)
         used = after.ru_utime + after.ru_stime - cpu.ru_utime - cpu.ru_stime
-        return lh.timings["trace_s"][1], used / wall, lh.rows
+        return lh.timings["trace_s"][1], used / wall, rows
 
     passes = {
         "embree-1": lambda: embree.trace1(rays),
@@ -270,8 +360,8 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
     last = {}
     for round_no in range(args.runs):
         for engine in rotated(ENGINES, round_no):
-            if engine == "lumis":  # its --repeat 2 makes the warm-up pass
-                t, share, last[engine] = lumis_pass()
+            if engine in ("lumis", "lumis-8"):  # their --repeat 2 makes the warm-up pass
+                t, share, last[engine] = lumis_pass(packets=engine == "lumis-8")
             else:
                 passes[engine]()  # warm-up
                 t, cpu, last[engine] = passes[engine]()
@@ -285,15 +375,9 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
     med = {e: statistics.median(times[e]) for e in ENGINES}
     best = {e: min(times[e]) for e in ENGINES}
     mrays = {e: n / med[e] / 1e6 for e in ENGINES}
-    ratios = {
-        "lumis/embree-1": med["embree-1"] / med["lumis"],
-        "lumis/embree-8": med["embree-8"] / med["lumis"],
-        "lumis/embree-8c": med["embree-8c"] / med["lumis"],
-        "embree-8/embree-1": med["embree-1"] / med["embree-8"],
-        "embree-8c/embree-1": med["embree-1"] / med["embree-8c"],
-        "embree-1/embreex-1": med["embreex-1"] / med["embree-1"],
-    }
-    ratios_best = {k: best[k.split("/")[1]] / best[k.split("/")[0]] for k in ratios}
+    # Throughput of a over b: b's seconds over a's.
+    ratios = {f"{a}/{b}": med[b] / med[a] for a, b in RATIOS}
+    ratios_best = {f"{a}/{b}": best[b] / best[a] for a, b in RATIOS}
     checks = {e: same_hits(last[e], last["embree-1"]) for e in (*PACKETS, "embreex-1")}
     # embreex's t_max is 3e38 where the rays say inf (lumis_tools/embree.py): its misses'
     # t differs by design, so only its hits' t are compared.
@@ -301,12 +385,14 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
     hit = e1["geom"] != -1
     checks["embreex-1"]["t_differs"] = int((e1["t"][hit] != ex["t"][hit]).sum())
     lumis_agree = agreement(as_embreex(e1), last["lumis"])
+    packets_same = same_rows(last["lumis-8"], last["lumis"])
 
     labels = {"embree-1": "Embree rtcIntersect1 (C loop)",
               "embree-8": "Embree rtcIntersect8, 4x2 packets",
               "embree-8c": "Embree rtcIntersect8, 4x2, COHERENT",
               "embreex-1": "Embree rtcIntersect1 (embreex loop)",
-              "lumis": "lumis hits --threads 1"}
+              "lumis": "lumis hits --threads 1",
+              "lumis-8": "lumis hits --packets, 4x2 tile order"}
     print()
     share = {e: statistics.median(shares[e]) for e in ENGINES}
     print(f"{'engine':<10} {'':<37} {'Mrays/s':>8} {'(best)':>7} {'ns/ray':>7} {'CPU share':>9}")
@@ -319,7 +405,7 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
     print()
     print("ratios of throughput (median; best):")
     for k, v in ratios.items():
-        print(f"  {k:<19} {v:6.3f}  {ratios_best[k]:6.3f}")
+        print(f"  {k:<20} {v:6.3f}  {ratios_best[k]:6.3f}")
     print("per-round seconds:")
     for e in ENGINES:
         print(f"  {e:<10} {' '.join(f'{t:.4f}' for t in times[e])}")
@@ -337,6 +423,11 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
           f"{MIN_HIT_MISS:.2%}{'' if ok else ': FAILED'}), hit rate "
           f"{lumis_agree['hit_rate_embree']:.1%}; where both hit: same triangle "
           f"{lumis_agree['same_prim']:.4%}, t within 1e-4 {lumis_agree['t_within_1e-4']:.4%}")
+    bad = packets_same["rows_differ"]
+    failed |= bad > 0
+    print(f"lumis-8 vs lumis (pixel order, whole rows bit for bit): {bad:,} of "
+          f"{packets_same['rays']:,} rows differ"
+          + ("" if bad == 0 else f" (per column {packets_same['columns_differ']})  FAILED"))
 
     if args.json:
         record = {
@@ -347,7 +438,11 @@ def benchmark(args, tmp, lumis_scene, tris, what, rays, lanes, lumis_extra, pinn
             "lumis_rev": rev, "embree_version": version,
             "embree_commit_s": build, "seconds": times, "cpu_share": shares,
             "mrays_s": mrays, "ratios": ratios, "ratios_best": ratios_best,
-            "same_as_embree_1": checks, "lumis_agreement": lumis_agree, "failed": failed,
+            "same_as_embree_1": checks, "lumis_agreement": lumis_agree,
+            "lumis_8": {"args": lumis_extra + LUMIS_PACKETS, "groups": groups,
+                        "groups_one_origin_and_signs": walkable,
+                        "same_as_lumis": packets_same},
+            "failed": failed,
         }
         args.json.write_text(json.dumps(record, indent=2) + "\n")
     return exitcodes.FAILED if failed else exitcodes.OK

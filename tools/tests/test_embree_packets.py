@@ -9,7 +9,15 @@ import pytest
 
 from lumis_tools import embree_native
 from lumis_tools.bench_embree import agreement
-from lumis_tools.bench_embree_packets import as_embreex, rotated, same_hits
+from lumis_tools.bench_embree_packets import (
+    as_embreex,
+    from_tile_order,
+    packet_groups,
+    rotated,
+    same_hits,
+    same_rows,
+    tile_order,
+)
 from lumis_tools.embree_native import HEADER_LAYOUT, RECORD, packet_lanes
 
 
@@ -38,6 +46,68 @@ def test_every_pixel_is_in_one_lane_of_a_4x2_tile(w, h):
         ys, xs = np.divmod(packet[packet >= 0], w)
         assert xs.max() - xs.min() < 4 and ys.max() - ys.min() < 2
         assert xs.min() % 4 == 0 and ys.min() % 2 == 0
+
+
+def test_tile_order_of_whole_tiles_is_the_packets_order():
+    # 8 x 4: tiles (columns 0-3, 4-7) x (rows 0-1, 2-3), each tile's lanes row by row.
+    assert tile_order(8, 4).tolist() == [0, 1, 2, 3, 8, 9, 10, 11, 4, 5, 6, 7, 12, 13, 14, 15,
+                                         16, 17, 18, 19, 24, 25, 26, 27,
+                                         20, 21, 22, 23, 28, 29, 30, 31]
+    assert (tile_order(512, 384) == packet_lanes(512, 384).ravel()).all()
+
+
+def test_tile_order_puts_ragged_edge_tiles_last():
+    # 5 x 3 (packet_lanes above): one full tile, then the valid pixels of the three others.
+    assert tile_order(5, 3).tolist() == [0, 1, 2, 3, 5, 6, 7, 8, 4, 9, 10, 11, 12, 13, 14]
+
+
+@pytest.mark.parametrize("w,h", [(1, 1), (3, 1), (4, 2), (5, 3), (7, 5), (8, 6), (12, 1),
+                                 (1, 9), (513, 385), (512, 384)])
+def test_tile_order_round_trips(w, h):
+    order = tile_order(w, h)
+    assert order.dtype == np.int64 and sorted(order.tolist()) == list(range(w * h))
+    rng = np.random.default_rng(w * 1000 + h)
+    rows = rng.standard_normal((w * h, 9)).astype(np.float32)
+    rows[::3, 0] = np.inf
+    traced = rows[order]  # what lumis returns for the reordered rays
+    back = from_tile_order(traced, order)
+    assert back.dtype == rows.dtype and (back.view(np.uint32) == rows.view(np.uint32)).all()
+    # Every group of 8 that starts within the full tiles is one whole 4 x 2 tile.
+    full = int((packet_lanes(w, h) >= 0).all(axis=1).sum())
+    for k in range(full):
+        ys, xs = np.divmod(order[8 * k:8 * k + 8], w)
+        assert xs.min() % 4 == 0 and ys.min() % 2 == 0
+        assert (xs - xs.min()).tolist() == [0, 1, 2, 3] * 2
+        assert (ys - ys.min()).tolist() == [0] * 4 + [1] * 4
+    if w % 4 == 0 and h % 2 == 0:
+        assert 8 * full == w * h
+
+
+def test_packet_groups_counts_shared_origin_and_signs():
+    rays = np.zeros((19, 8), np.float32)
+    rays[:, 3:6] = [1.0, -1.0, 0.5]
+    rays[:, 7] = np.inf
+    rays[9, 4] = 1.0  # second group: one ray's y direction flips sign
+    rays[17, 0] = 1e-7  # third group (rays 16-18): another origin
+    assert packet_groups(rays) == (3, 1)
+    rays[17, 0] = 0.0
+    assert packet_groups(rays) == (3, 2)
+    rays[0:8, 5] = 0.0  # no one sign on z
+    assert packet_groups(rays) == (3, 1)
+    assert packet_groups(rays[:17]) == (3, 0)  # a last group of one ray is not a packet
+
+
+def test_same_rows_is_bit_for_bit_and_nan_aware():
+    a = np.zeros((3, 9), np.float32)
+    a[:, 0] = [1.0, np.inf, np.nan]
+    assert same_rows(a, a.copy()) == {"rays": 3, "rows_differ": 0, "columns_differ": [0] * 9}
+    b = a.copy()
+    b[0, 5] = -0.0
+    b[1, 1] = 1.0
+    b[1, 8] = 1.0
+    assert same_rows(a, b) == {"rays": 3, "rows_differ": 2,
+                               "columns_differ": [0, 1, 0, 0, 0, 1, 0, 0, 1]}
+    assert same_rows(a, a[:2])["rows_differ"] == 3
 
 
 def test_header_layout_follows_from_the_field_lists():
