@@ -84,12 +84,15 @@ impl WideBvh<8> {
         out: &mut [Option<Hit>],
     ) -> bool {
         debug_assert!(rays.len() <= PACKET && testers.len() >= rays.len());
+        // Lens rays (depth of field) have an origin each: refused before any set-up.
+        let origin = |r: &Ray| r.origin.to_array().map(f32::to_bits);
+        let shared = rays.iter().all(|r| origin(r) == origin(&rays[0]));
         #[cfg(target_arch = "x86_64")]
-        if super::child_test::has_avx2() && !self.nodes.is_empty() && rays.len() > 1 {
+        if shared && super::child_test::has_avx2() && !self.nodes.is_empty() && rays.len() > 1 {
             // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
             return unsafe { self.packet_avx2(rays, stats, testers, out) };
         }
-        let _ = (rays, stats, testers, out);
+        let _ = (shared, stats, testers, out);
         false
     }
 
