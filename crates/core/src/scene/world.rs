@@ -63,11 +63,16 @@ impl World {
     /// Nearest hit of `ray`, with its surface.
     pub fn intersect(&self, ray: &Ray, stats: &mut TraversalStats) -> Option<Interaction> {
         let traced = self.trace(ray, stats)?;
+        Some(self.surface_of(&traced))
+    }
+
+    /// The interaction at a traced hit, with texture coordinates only where a texture reads
+    /// them (a sphere's cost two inverse trigonometric calls); elsewhere they stay 0, which
+    /// nothing reads.
+    fn surface_of(&self, traced: &Traced) -> Interaction {
         let object = self.scene.object_of(traced.hit.prim);
-        // Texture coordinates only where a texture reads them (a sphere's cost two inverse
-        // trigonometric calls); elsewhere they stay 0, which nothing reads.
         let uv = self.scene.material_of(object).reads_uv();
-        Some(self.interaction(&traced, uv))
+        self.interaction(traced, uv)
     }
 
     /// [`World::intersect`] of each of `rays` (up to [`PACKET`]) into `out`: walked together
@@ -87,11 +92,7 @@ impl World {
             return;
         }
         for (o, traced) in out.iter_mut().zip(&traced[..rays.len()]) {
-            *o = traced.map(|traced| {
-                let object = self.scene.object_of(traced.hit.prim);
-                let uv = self.scene.material_of(object).reads_uv();
-                self.interaction(&traced, uv)
-            });
+            *o = traced.map(|traced| self.surface_of(&traced));
         }
     }
 

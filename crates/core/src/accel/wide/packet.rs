@@ -20,7 +20,7 @@ use crate::accel::bvh::CullBound;
 use crate::accel::leaves::ClosestLeaves;
 use crate::accel::{Closest, Hit, TraversalStats};
 use crate::math::slab::SlabKind;
-use crate::math::{ROBUST_BOX_SCALE, Ray, safe_inverse};
+use crate::math::{ROBUST_BOX_SCALE, Ray, Vec3A, safe_inverse};
 
 /// Rays per packet: one AVX2 register of lanes.
 pub const PACKET: usize = 8;
@@ -38,24 +38,24 @@ struct Frustum {
 }
 
 impl Frustum {
-    /// The packet's constants, or `None` when its rays cannot share a walk (see the module).
-    fn new(rays: &[Ray], culls: &[CullBound]) -> Option<Self> {
+    /// The packet's constants from its rays and their reciprocal directions `invs`, or `None`
+    /// when the rays cannot share a walk (see the module), found before any other set-up;
+    /// `t_min` is filled in by the caller from the rays' culling bounds.
+    fn new(rays: &[Ray], invs: &[Vec3A]) -> Option<Self> {
         let first = rays.first()?;
-        let origin = first.origin;
+        let origin = first.origin.to_array().map(f32::to_bits);
         let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        let mut t_min = f32::INFINITY;
-        for (ray, cull) in rays.iter().zip(culls) {
-            let inv = safe_inverse(ray.dir);
-            let same_origin =
-                ray.origin.to_array().map(f32::to_bits) == origin.to_array().map(f32::to_bits);
-            if !same_origin || SlabKind::with_inverse(ray, inv) != SlabKind::Finite {
+        for (ray, &inv) in rays.iter().zip(invs) {
+            // Lens rays (depth of field) have an origin each.
+            if ray.origin.to_array().map(f32::to_bits) != origin
+                || SlabKind::with_inverse(ray, inv) != SlabKind::Finite
+            {
                 return None;
             }
             for a in 0..3 {
                 lo[a] = lo[a].min(inv[a]);
                 hi[a] = hi[a].max(inv[a]);
             }
-            t_min = t_min.min(cull.lower(ray.t_min));
         }
         // One sign per axis: the interval must not hold zero (and the near plane is shared).
         if (0..3).any(|a| (lo[a] < 0.0) != (hi[a] < 0.0)) {
@@ -63,11 +63,11 @@ impl Frustum {
         }
         let plane = |a: usize| if lo[a] >= 0.0 { 0 } else { 1 };
         Some(Self {
-            origin: origin.to_array(),
+            origin: first.origin.to_array(),
             inv_lo: lo,
             inv_hi: hi,
             near_plane: [plane(0), 2 + plane(1), 4 + plane(2)],
-            t_min,
+            t_min: f32::INFINITY,
         })
     }
 }
@@ -84,15 +84,12 @@ impl WideBvh<8> {
         out: &mut [Option<Hit>],
     ) -> bool {
         debug_assert!(rays.len() <= PACKET && testers.len() >= rays.len());
-        // Lens rays (depth of field) have an origin each: refused before any set-up.
-        let origin = |r: &Ray| r.origin.to_array().map(f32::to_bits);
-        let shared = rays.iter().all(|r| origin(r) == origin(&rays[0]));
         #[cfg(target_arch = "x86_64")]
-        if shared && super::child_test::has_avx2() && !self.nodes.is_empty() && rays.len() > 1 {
+        if super::child_test::has_avx2() && !self.nodes.is_empty() && rays.len() > 1 {
             // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
             return unsafe { self.packet_avx2(rays, stats, testers, out) };
         }
-        let _ = (shared, stats, testers, out);
+        let _ = (rays, stats, testers, out);
         false
     }
 
@@ -106,13 +103,16 @@ impl WideBvh<8> {
         out: &mut [Option<Hit>],
     ) -> bool {
         let n = rays.len();
-        let culls: [CullBound; PACKET] = std::array::from_fn(|i| {
-            let ray = &rays[i.min(n - 1)];
-            CullBound::with_inverse(ray, &self.bounds, safe_inverse(ray.dir).to_array())
-        });
-        let Some(frustum) = Frustum::new(rays, &culls[..n]) else {
+        let invs: [Vec3A; PACKET] = std::array::from_fn(|i| safe_inverse(rays[i.min(n - 1)].dir));
+        let Some(mut frustum) = Frustum::new(rays, &invs[..n]) else {
             return false;
         };
+        let culls: [CullBound; PACKET] = std::array::from_fn(|i| {
+            CullBound::with_inverse(&rays[i.min(n - 1)], &self.bounds, invs[i].to_array())
+        });
+        for (ray, cull) in rays.iter().zip(&culls) {
+            frustum.t_min = frustum.t_min.min(cull.lower(ray.t_min));
+        }
         let mut closest: [Closest; PACKET] =
             std::array::from_fn(|i| Closest::new(&rays[i.min(n - 1)]));
         // The loosest of the rays' culling bounds: a box beyond it is beyond every ray's.
