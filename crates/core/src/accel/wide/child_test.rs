@@ -113,7 +113,23 @@ fn avx2_test(o: &Octant, node: &WideNode<8>, t_min: f32, t_max: f32) -> (u32, [f
         let far = _mm256_mul_ps(_mm256_sub_ps(load(2 * a + 1), org), inv);
         (near, far)
     };
-    let ((nx, fx), (ny, fy), (nz, fz)) = (axis(0), axis(1), axis(2));
+    entered([axis(0), axis(1), axis(2)], t_min, t_max)
+}
+
+/// The lanes entered, from each axis's entry and exit distances (`(near, far)` per axis): the
+/// larger of the entries and `t_min` against the smaller of the exits, widened and clamped to
+/// `t_max` as the scalar test does; with each lane's entry. Shared by the one-ray test and the
+/// packet's (`super::packet`), whose distances bound its rays'.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+pub(super) fn entered(
+    axes: [(std::arch::x86_64::__m256, std::arch::x86_64::__m256); 3],
+    t_min: f32,
+    t_max: f32,
+) -> (u32, [f32; 8]) {
+    use std::arch::x86_64::*;
+    let [(nx, fx), (ny, fy), (nz, fz)] = axes;
     let near = _mm256_max_ps(
         _mm256_max_ps(nx, ny),
         _mm256_max_ps(nz, _mm256_set1_ps(t_min)),

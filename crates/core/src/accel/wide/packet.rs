@@ -20,7 +20,7 @@ use crate::accel::bvh::CullBound;
 use crate::accel::leaves::ClosestLeaves;
 use crate::accel::{Closest, Hit, TraversalStats};
 use crate::math::slab::SlabKind;
-use crate::math::{ROBUST_BOX_SCALE, Ray, Vec3A, safe_inverse};
+use crate::math::{Ray, Vec3A, safe_inverse};
 
 /// Rays per packet: one AVX2 register of lanes.
 pub const PACKET: usize = 8;
@@ -190,17 +190,5 @@ fn frustum_test(f: &Frustum, node: &super::WideNode<8>, t_max: f32) -> (u32, [f3
         let far = _mm256_max_ps(_mm256_mul_ps(d_far, lo), _mm256_mul_ps(d_far, hi));
         (near, far)
     };
-    let ((nx, fx), (ny, fy), (nz, fz)) = (axis(0), axis(1), axis(2));
-    let near = _mm256_max_ps(
-        _mm256_max_ps(nx, ny),
-        _mm256_max_ps(nz, _mm256_set1_ps(f.t_min)),
-    );
-    let far = _mm256_min_ps(_mm256_min_ps(fx, fy), fz);
-    let widened = _mm256_max_ps(far, _mm256_mul_ps(far, _mm256_set1_ps(ROBUST_BOX_SCALE)));
-    let far = _mm256_min_ps(widened, _mm256_set1_ps(t_max));
-    let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(near, far)) as u32;
-    let mut out = [0.0f32; 8];
-    // SAFETY: `out` holds 8 f32.
-    unsafe { _mm256_storeu_ps(out.as_mut_ptr(), near) };
-    (mask, out)
+    super::child_test::entered([axis(0), axis(1), axis(2)], f.t_min, t_max)
 }
