@@ -12,6 +12,7 @@ pub mod batch;
 pub mod camera;
 pub mod cryptomatte;
 pub mod effects;
+pub mod environment;
 pub mod film;
 pub mod geometry;
 mod huge_pages;
