@@ -22,7 +22,7 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Render a scene (the default scene when none is given) to EXR and/or PNG.
-    Render(render::RenderArgs),
+    Render(Box<render::RenderArgs>),
     /// Print what a scene or model file holds (geometry, materials, lights, camera, bounds,
     /// warnings) without rendering.
     Info {

@@ -5,6 +5,7 @@
 
 pub mod accel;
 pub mod accuracy;
+pub mod environment;
 pub mod frame;
 pub mod hits;
 pub mod info;

@@ -4,6 +4,7 @@
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
 use lumis_core::cryptomatte::{DEFAULT_LEVELS, MAX_LEVELS};
+use lumis_core::render::PassRequest;
 use lumis_io::output::{AovLayers, ChannelLayout};
 
 /// One value of `--aov`.
@@ -16,6 +17,14 @@ pub enum AovArg {
     /// uv.U/V: texture coordinates at the hit (a mesh's uvs, else its barycentrics; on
     /// spheres u = (atan2(z, x) + pi) / 2pi, v = acos(y / r) / pi, v = 0 at the top).
     Uv,
+    /// The light-path passes, each RGB over every sample like the beauty, which they add up
+    /// to: diffuse and specular (direct light at the first hit), reflection and refraction
+    /// (everything seen through the first hit's mirror or refracted ray), emission, ambient
+    /// (the environment's diffuse light, if any), background (escaping camera rays).
+    Lightpaths,
+    /// One RGB pass per light, light.<name>: its direct diffuse + specular at the first hit
+    /// (they add up to diffuse + specular).
+    Lights,
 }
 
 /// `--layout`.
@@ -25,7 +34,10 @@ pub enum LayoutArg {
     Lumis,
     /// Blender's multilayer names: ViewLayer.Combined.R, ViewLayer.Depth.Z,
     /// ViewLayer.Normal.X, ViewLayer.IndexOB.X, ViewLayer.IndexPrim.X, ViewLayer.DiffCol.R,
-    /// ViewLayer.Position.X, ViewLayer.UV.U/V/A (A: 1 on hits), ViewLayer.CryptoObject00.R.
+    /// ViewLayer.Position.X, ViewLayer.UV.U/V/A (A: 1 on hits), ViewLayer.CryptoObject00.R;
+    /// the light paths as ViewLayer.DiffDir, GlossDir, GlossInd, TransInd, Emit, Env (and
+    /// lumis's Ambient), each light as ViewLayer.Combined_<name>, the shadow catcher's pass
+    /// as ViewLayer.Shadow Catcher.
     Blender,
 }
 
@@ -72,6 +84,14 @@ impl PassArgs {
             albedo: self.aov.contains(&AovArg::Albedo),
             position: self.aov.contains(&AovArg::Position),
             uv: self.aov.contains(&AovArg::Uv),
+        }
+    }
+
+    /// The RGB passes to fill (none unless an EXR is written).
+    pub fn pass_request(&self, writes_exr: bool) -> PassRequest {
+        PassRequest {
+            light_paths: writes_exr && self.aov.contains(&AovArg::Lightpaths),
+            lights: writes_exr && self.aov.contains(&AovArg::Lights),
         }
     }
 

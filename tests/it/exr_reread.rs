@@ -54,12 +54,14 @@ fn the_default_render_with_every_layer_in_lumis_layout() {
     args.extend([
         "--cryptomatte",
         "--aov",
-        "albedo,position,uv",
+        "albedo,position,uv,lightpaths,lights",
         "--transparent",
     ]);
     let all = rewrites_identically(d, "all", &args);
     let aov = all.meta.aov_layers;
     assert!(aov.albedo && aov.position && aov.uv);
+    // 7 light paths and the default scene's 2 lights.
+    assert_eq!(all.film.passes().len(), 9);
     assert_eq!(all.film.crypto().len(), 2);
     // Misses read back as the film's miss depth, the value written as the metadata's.
     assert!(all.film.aov().iter().any(|a| a.prim_id < 0));
@@ -84,7 +86,7 @@ fn blender_layout_float_odd_levels_and_a_finite_miss_depth() {
         "--cryptomatte-levels",
         "3",
         "--aov",
-        "albedo,position,uv",
+        "albedo,position,uv,lightpaths,lights",
         "--z-miss",
         "1e10",
         "--exposure",
@@ -111,6 +113,7 @@ fn a_tile_a_crop_and_a_frame() {
     let d = dir.path();
     let mut args = SIZE.to_vec();
     args.extend(["--tile", "1/3", "--cryptomatte", "--layout", "blender"]);
+    args.extend(["--aov", "lightpaths,lights"]);
     let tile = rewrites_identically(d, "tile", &args);
     let header = tile.meta.tile.expect("a tile");
     assert_eq!(header.spec.to_string(), "1/3");

@@ -22,6 +22,7 @@ mod cli_flags;
 mod cli_models;
 mod cryptomatte;
 mod effects;
+mod environment;
 mod exr_compositing;
 mod exr_passes;
 mod exr_reread;

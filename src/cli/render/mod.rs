@@ -5,6 +5,7 @@ mod identity;
 
 use super::accel::AccelArgs;
 use super::accuracy::{AccuracyArgs, CutoffArgs};
+use super::environment::EnvironmentArgs;
 use super::frame::{FrameArgs, NumberedOutputs};
 use super::interrupt::{Interrupted, on_ctrl_c};
 use super::overrides::OverrideArgs;
@@ -116,6 +117,8 @@ pub struct RenderArgs {
     #[command(flatten)]
     overrides: OverrideArgs,
     #[command(flatten)]
+    environment: EnvironmentArgs,
+    #[command(flatten)]
     frame: FrameArgs,
 }
 
@@ -123,7 +126,15 @@ pub struct RenderArgs {
 pub fn run(args: &RenderArgs) -> Result<()> {
     let mut times = PhaseTimes::default();
     let t = Instant::now();
-    let defines = args.overrides.defines();
+    // The --env flags stand for -D environment.* after the command line's own -D.
+    let defines: Vec<_> = args
+        .overrides
+        .defines()
+        .iter()
+        .cloned()
+        .chain(args.environment.overrides()?)
+        .collect();
+    let defines = defines.as_slice();
     // Every file the load reads, so that no output can overwrite one of them.
     let (scene, inputs) = record_inputs(|| match &args.scene {
         Some(path) => lumis_io::formats::load_with_overrides(
@@ -218,6 +229,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // Cryptomatte layers are EXR layers: a PNG-only render makes none.
         cryptomatte: args.passes.cryptomatte()?.filter(|_| writes_exr),
         transparent: args.passes.transparent(),
+        // Pass layers are EXR layers too.
+        passes: args.passes.pass_request(writes_exr),
     };
     let mut rendered = render(&world, &opts)?;
     let scene = world.scene();

@@ -49,7 +49,7 @@ fn band_aligned_split_with_every_pass() {
         "150",
         "--cryptomatte",
         "--aov",
-        "albedo,position,uv",
+        "albedo,position,uv,lightpaths,lights",
         "--transparent",
     ];
     assert_identical(dir.path(), "passes", &[3, 7], &args);
@@ -74,6 +74,8 @@ fn float_blender_layout_and_fixed_exposure() {
         "1.5",
         "--seed",
         "7",
+        "--aov",
+        "lightpaths,lights",
     ];
     assert_identical(dir.path(), "blender", &[2, 16], &args);
 }

@@ -85,6 +85,9 @@ pub struct Analysis {
     pub emission: Decision,
     /// Whether the reflection/refraction cutoff is applied.
     pub cutoff: Decision,
+    /// What escaping rays are worth: an environment map (never skipped: a ray that escapes
+    /// is no longer worth zero), a constant background, or black.
+    pub environment: Decision,
     /// Lens rays traced per pixel sample.
     pub lens_rays: u32,
     /// Per light: whether it can light anything (false: zero intensity).
@@ -203,6 +206,31 @@ impl Analysis {
         } else {
             Decision::new(false, "cutoff 0: every branch up to max depth is traced")
         };
+        let environment = match scene.environment() {
+            Some(env) if !env.is_black() => Decision::new(
+                true,
+                format!(
+                    "escaping rays see {} ({}x{}); ambient light is its diffuse irradiance{}",
+                    env.source(),
+                    env.map().width(),
+                    env.map().height(),
+                    if env.sun().is_some() {
+                        "; its sun is the light \"sun\""
+                    } else {
+                        ""
+                    }
+                ),
+            ),
+            Some(_) => Decision::new(false, "the environment map is black"),
+            None if st.background != crate::math::Vec3::ZERO => Decision::new(
+                false,
+                format!(
+                    "no environment: escaping rays see the background {}",
+                    st.background
+                ),
+            ),
+            None => Decision::new(false, "no environment: escaping rays see black"),
+        };
         Self {
             mode,
             shadows,
@@ -215,6 +243,7 @@ impl Analysis {
             normal_maps,
             emission,
             cutoff,
+            environment,
             lens_rays,
             lights_reachable: reachable,
             materials: scene
@@ -231,7 +260,7 @@ impl Analysis {
     }
 
     /// Every decision with its name, in report order.
-    pub fn decisions(&self) -> [(&'static str, &Decision); 10] {
+    pub fn decisions(&self) -> [(&'static str, &Decision); 11] {
         [
             ("shadows", &self.shadows),
             ("reflection", &self.reflection),
@@ -243,6 +272,7 @@ impl Analysis {
             ("normal maps", &self.normal_maps),
             ("emission", &self.emission),
             ("cutoff", &self.cutoff),
+            ("environment", &self.environment),
         ]
     }
 }

@@ -27,8 +27,12 @@ pub const SOURCE_WIDTH: u32 = 128;
 /// `E(n)` for every normal of the table's grid.
 pub(super) fn irradiance_table(map: &LatLong) -> LatLong {
     let cells = filtered(map);
-    let table = LatLong::new(WIDTH, WIDTH / 2, vec![Vec3::ZERO; (WIDTH * WIDTH / 2) as usize])
-        .expect("a non-empty table");
+    let table = LatLong::new(
+        WIDTH,
+        WIDTH / 2,
+        vec![Vec3::ZERO; (WIDTH * WIDTH / 2) as usize],
+    )
+    .expect("a non-empty table");
     let texels: Vec<Vec3> = (0..WIDTH / 2)
         .into_par_iter()
         .flat_map_iter(|j| {
@@ -103,7 +107,12 @@ mod tests {
     #[test]
     fn a_uniform_sky_gives_pi_l_everywhere() {
         let t = irradiance_table(&map(256, 128, |_| Vec3::new(1.0, 2.0, 0.5)));
-        for n in [Vec3::Y, Vec3::NEG_Y, Vec3::X, Vec3::new(0.3, -0.5, 0.8).normalize()] {
+        for n in [
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::X,
+            Vec3::new(0.3, -0.5, 0.8).normalize(),
+        ] {
             let e = at(&t, n) / PI;
             assert!(e.distance(Vec3::new(1.0, 2.0, 0.5)) < 5e-3, "{n}: {e}");
         }
@@ -140,6 +149,9 @@ mod tests {
         assert!((e_axis / (1000.0 * omega) - 1.0).abs() < 0.02, "{e_axis}");
         assert!(at(&t, Vec3::NEG_X).x.abs() < 1e-3);
         let e45 = at(&t, Vec3::new(1.0, 1.0, 0.0).normalize()).x;
-        assert!((e45 / e_axis - std::f32::consts::FRAC_1_SQRT_2).abs() < 0.03, "{e45}");
+        assert!(
+            (e45 / e_axis - std::f32::consts::FRAC_1_SQRT_2).abs() < 0.03,
+            "{e45}"
+        );
     }
 }

@@ -127,7 +127,10 @@ mod tests {
             (Vec3::new(0.0, 1.0, 0.0), 0.5, 0.0),
         ] {
             let (gu, gv) = uv_of(d);
-            assert!((gu - u).abs() < 1e-6 && (gv - v).abs() < 1e-6, "{d} -> {gu} {gv}");
+            assert!(
+                (gu - u).abs() < 1e-6 && (gv - v).abs() < 1e-6,
+                "{d} -> {gu} {gv}"
+            );
             if v != 0.0 {
                 assert!(direction(u, v).distance(d) < 1e-6);
             }

@@ -188,7 +188,9 @@ mod tests {
                 rotation_degrees: deg,
                 intensity: 2.0,
             };
-            Environment::new(marked(), p, false, "test").unwrap().radiance(d)
+            Environment::new(marked(), p, false, "test")
+                .unwrap()
+                .radiance(d)
         };
         assert_eq!(at(0.0, mark).x, 2.0);
         // Mitsuba's rotate(y, 90) maps -Z to -X: the mark turns with it.
@@ -207,14 +209,22 @@ mod tests {
         let e = Environment::new(uniform, p, false, "u").unwrap();
         for n in [Vec3::Y, Vec3::ZERO, Vec3::new(1e-30, 0.0, 0.0), Vec3::NEG_Z] {
             let v = e.irradiance(n);
-            assert!((v.x / (3.0 * std::f32::consts::PI) - 1.0).abs() < 0.01, "{n}: {v}");
+            assert!(
+                (v.x / (3.0 * std::f32::consts::PI) - 1.0).abs() < 0.01,
+                "{n}: {v}"
+            );
         }
     }
 
     #[test]
     fn bad_placements_are_refused() {
         let m = || LatLong::new(2, 1, vec![Vec3::ONE; 2]).unwrap();
-        for (r, i) in [(f32::NAN, 1.0), (0.0, -1.0), (0.0, f32::INFINITY), (1e9, 1.0)] {
+        for (r, i) in [
+            (f32::NAN, 1.0),
+            (0.0, -1.0),
+            (0.0, f32::INFINITY),
+            (1e9, 1.0),
+        ] {
             let p = Placement {
                 rotation_degrees: r,
                 intensity: i,
@@ -245,6 +255,9 @@ mod tests {
             panic!("no sun")
         };
         // -Z turns to -X: the sun is at (-0.8, 0.6, 0), its light travels the other way.
-        assert!(direction.dot(Vec3::new(0.8, -0.6, 0.0)) > 0.999, "{direction}");
+        assert!(
+            direction.dot(Vec3::new(0.8, -0.6, 0.0)) > 0.999,
+            "{direction}"
+        );
     }
 }

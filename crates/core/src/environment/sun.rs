@@ -102,7 +102,11 @@ pub(super) fn extract_sun(map: &mut LatLong) -> Result<Sun, String> {
             }
         }
     }
-    let fill = if ring > 0 { fill / ring as f32 } else { Vec3::ZERO };
+    let fill = if ring > 0 {
+        fill / ring as f32
+    } else {
+        Vec3::ZERO
+    };
     let (mut irradiance, mut towards) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
     region.sort_unstable(); // the sums in one order, whatever the fill visited first
     for &k in &region {
@@ -166,9 +170,17 @@ mod tests {
         // A disk of radius 0.04 rad: Omega = 2pi (1 - cos 0.04).
         let omega = std::f32::consts::TAU * (1.0 - 0.04f32.cos());
         let want = 5000.0 * omega;
-        assert!((sun.irradiance.x / want - 1.0).abs() < 0.05, "{} vs {want}", sun.irradiance);
+        assert!(
+            (sun.irradiance.x / want - 1.0).abs() < 0.05,
+            "{} vs {want}",
+            sun.irradiance
+        );
         // Painted out with the sky around it.
-        assert!(m.texels().iter().all(|c| c.distance(Vec3::new(0.2, 0.3, 0.5)) < 1e-5));
+        assert!(
+            m.texels()
+                .iter()
+                .all(|c| c.distance(Vec3::new(0.2, 0.3, 0.5)) < 1e-5)
+        );
         assert!(before.x > m.texels().iter().copied().sum::<Vec3>().x);
     }
 

@@ -66,6 +66,14 @@ pub fn check_finite(film: &Film) -> Result<(), NonFinite> {
             }
         }
     }
+    for pass in film.passes() {
+        for (i, v) in pass.values().iter().enumerate() {
+            if !v.is_finite() {
+                count += 1;
+                first.get_or_insert((i, "pass"));
+            }
+        }
+    }
     match first {
         None => Ok(()),
         Some((i, channel)) => Err(NonFinite {

@@ -3,6 +3,7 @@
 mod display;
 mod exposure;
 mod finite;
+mod passes;
 mod paste;
 mod tile_split;
 mod tonemap;
@@ -12,6 +13,7 @@ pub use exposure::{
     AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET, auto_exposure, auto_exposure_of,
 };
 pub use finite::{NonFinite, check_finite};
+pub use passes::{PassLayer, SHADOW_PASS, is_colour_pass};
 pub use tile_split::{SPLIT_ROWS, TileSpec};
 pub use tonemap::Tonemap;
 
@@ -144,6 +146,7 @@ pub struct Film {
     rgba: Vec<Vec4>,
     aov: Vec<PixelAov>,
     crypto: Vec<CryptoLayer>,
+    passes: Vec<PassLayer>,
 }
 
 impl Film {
@@ -164,6 +167,7 @@ impl Film {
             rgba: vec![Vec4::ZERO; n],
             aov: vec![PixelAov::MISS; n],
             crypto: Vec::new(),
+            passes: Vec::new(),
         }
     }
 
@@ -177,11 +181,18 @@ impl Film {
         self.full
     }
 
-    /// Scales the colour (not alpha, not the AOV layers) by `2^stops`: the exposure, applied
-    /// once before the film is written so that the EXR and the PNG agree. Whole stops scale
-    /// by a power of two, exactly.
+    /// Scales the colour (not alpha, not the AOV layers) and the radiance passes by
+    /// `2^stops`: the exposure, applied once before the film is written so that the EXR and
+    /// the PNG agree and the passes still add up to the beauty. Whole stops scale by a power
+    /// of two, exactly.
     pub fn expose(&mut self, stops: f32) {
         expose_rgba(&mut self.rgba, stops);
+        let scale = stops.exp2();
+        for pass in self.passes.iter_mut().filter(|p| p.is_colour()) {
+            for v in pass.values_mut() {
+                *v = (*v * scale).min(Vec3::splat(f32::MAX));
+            }
+        }
     }
 
     /// Width in pixels.

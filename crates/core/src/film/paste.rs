@@ -47,12 +47,31 @@ impl Film {
             }
             layers.push(i);
         }
+        // A pass the window has and this film has not yet is added (every tile of a render
+        // has the same passes; `lumis merge` checks their headers agree).
+        let mut passes = Vec::with_capacity(part.passes.len());
+        for pass in &part.passes {
+            let i = match self.passes.iter().position(|p| p.name() == pass.name()) {
+                Some(i) => i,
+                None => {
+                    let n = self.rgba.len();
+                    self.passes
+                        .push(super::PassLayer::new(pass.name(), n, pass.is_colour()));
+                    self.passes.len() - 1
+                }
+            };
+            passes.push(i);
+        }
         let (w, pw) = (self.width as usize, part.width as usize);
         for row in 0..part.height as usize {
             let from = row * pw;
             let to = (dy as usize + row) * w + dx as usize;
             self.rgba[to..to + pw].copy_from_slice(&part.rgba[from..from + pw]);
             self.aov[to..to + pw].copy_from_slice(&part.aov[from..from + pw]);
+            for (pass, &i) in part.passes.iter().zip(&passes) {
+                self.passes[i].values_mut()[to..to + pw]
+                    .copy_from_slice(&pass.values()[from..from + pw]);
+            }
             for (layer, &i) in part.crypto.iter().zip(&layers) {
                 for x in 0..pw {
                     self.crypto[i].set_pixel(to + x, layer.pixel(from + x));

@@ -8,8 +8,9 @@
 //! exact zero, so both produce the same bits.
 
 use super::RayCounts;
-use crate::accel::PACKET;
+use super::paths::Split;
 use crate::effects::{Analysis, EffectMode, MaterialTraits};
+use crate::environment::Environment;
 use crate::geometry::{Offset, SurfacePoint};
 use crate::light::LightSample;
 use crate::material::{Material, fresnel_dielectric, reflect, refract};
@@ -17,27 +18,24 @@ use crate::math::{Ray, Vec3};
 use crate::scene::limits::MAX_SAMPLE_RADIANCE;
 use crate::scene::{Interaction, Scene, World};
 
-/// The Whitted integrator over one world (a scene and its accelerator).
+/// The Whitted integrator over one world (a scene and its accelerator); its camera-ray entry
+/// points are in `camera.rs`.
 pub struct Whitted<'a> {
-    world: &'a World,
-    scene: &'a Scene,
-    analysis: &'a Analysis,
-    all: bool,
+    pub(super) world: &'a World,
+    pub(super) scene: &'a Scene,
+    pub(super) analysis: &'a Analysis,
+    pub(super) all: bool,
     max_depth: u32,
     medium_ior: f32,
-    offset: Offset,
+    pub(super) offset: Offset,
     cutoff: f32,
-}
-
-/// Radiance along a camera ray, and whether it saw anything (for alpha).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CameraSample {
-    /// Incoming radiance.
-    pub radiance: Vec3,
-    /// True when the ray hit geometry or escaped into a non-black background.
-    pub opaque: bool,
-    /// The object the ray hit first (what Cryptomatte names the sample by); `None` on a miss.
-    pub object: Option<u32>,
+    /// What escaping rays see and where ambient light comes from; `None`: the constant
+    /// background and ambient of the settings.
+    pub(super) env: Option<&'a Environment>,
+    /// Escaping camera rays add nothing (`--transparent`).
+    pub(super) transparent: bool,
+    /// Whether any material is a shadow catcher (else no hit is tested for one).
+    pub(super) catchers: bool,
 }
 
 /// What the material of one hit is and can do.
@@ -60,6 +58,18 @@ impl<'a> Whitted<'a> {
             medium_ior: st.medium_ior,
             offset: st.offset,
             cutoff: st.cutoff,
+            env: scene.environment(),
+            transparent: false,
+            catchers: scene.materials().iter().any(|m| m.shadow_catcher),
+        }
+    }
+
+    /// The same integrator with escaping camera rays transparent (`--transparent`): they
+    /// add no colour and no alpha; reflected and refracted rays still see the background.
+    pub fn with_transparent(self, transparent: bool) -> Self {
+        Self {
+            transparent,
+            ..self
         }
     }
 
@@ -68,56 +78,9 @@ impl<'a> Whitted<'a> {
         self.world
     }
 
-    /// Radiance arriving along camera ray `ray`.
-    pub fn camera_ray(&self, ray: &Ray, counts: &mut RayCounts) -> CameraSample {
-        counts.camera += 1;
-        let hit = self.world.intersect(ray, &mut counts.traversal);
-        self.camera_sample(ray, hit, counts)
-    }
-
-    /// [`Whitted::camera_ray`] of each of `rays` (up to [`PACKET`]) into `out`, their nearest
-    /// hits found together where they can be ([`World::intersect_packet`]); the same samples.
-    pub fn camera_rays(&self, rays: &[Ray], counts: &mut RayCounts, out: &mut [CameraSample]) {
-        counts.camera += rays.len() as u64;
-        let mut hits = [None; PACKET];
-        let hits = &mut hits[..rays.len()];
-        self.world
-            .intersect_packet(rays, &mut counts.traversal, hits);
-        for ((o, ray), hit) in out.iter_mut().zip(rays).zip(hits.iter()) {
-            *o = self.camera_sample(ray, *hit, counts);
-        }
-    }
-
-    /// The sample of camera ray `ray` that found `hit`.
-    fn camera_sample(
-        &self,
-        ray: &Ray,
-        hit: Option<Interaction>,
-        counts: &mut RayCounts,
-    ) -> CameraSample {
-        match hit {
-            Some(hit) => CameraSample {
-                radiance: if self.all {
-                    self.shade::<true>(ray, &hit, 0, 1.0, counts)
-                } else {
-                    self.shade::<false>(ray, &hit, 0, 1.0, counts)
-                },
-                opaque: true,
-                object: Some(hit.object),
-            },
-            None => {
-                let bg = self.scene.settings().background;
-                CameraSample {
-                    radiance: bg,
-                    opaque: bg != Vec3::ZERO,
-                    object: None,
-                }
-            }
-        }
-    }
-
     /// Radiance along a secondary ray at bounce `depth`, whose radiance enters the pixel
-    /// multiplied by `weight`.
+    /// multiplied by `weight`. Shadow catchers are invisible to it (their shadows are for
+    /// the plate, which reflections do not show): it goes on through them.
     fn trace<const ALL: bool>(
         &self,
         ray: &Ray,
@@ -125,10 +88,23 @@ impl<'a> Whitted<'a> {
         weight: f32,
         counts: &mut RayCounts,
     ) -> Vec3 {
-        match self.world.intersect(ray, &mut counts.traversal) {
-            Some(hit) => self.shade::<ALL>(ray, &hit, depth, weight, counts),
-            None => self.scene.settings().background,
+        let mut ray = *ray;
+        for _ in 0..=MAX_CATCHER_CROSSINGS {
+            match self.world.intersect(&ray, &mut counts.traversal) {
+                Some(hit) if self.catchers && self.is_catcher(&hit) => {
+                    ray = Ray::new(hit.surface.spawn_origin(ray.dir, self.offset), ray.dir);
+                }
+                Some(hit) => return self.shade::<ALL>(&ray, &hit, depth, weight, counts, None),
+                None => return self.background(ray.dir),
+            }
         }
+        self.background(ray.dir)
+    }
+
+    /// Whether the hit's object has a shadow-catcher material.
+    #[inline]
+    pub(super) fn is_catcher(&self, hit: &Interaction) -> bool {
+        self.scene.material_of(hit.object).shadow_catcher
     }
 
     /// True when a branch whose radiance enters the pixel with weight `weight` (its own weight
@@ -153,13 +129,14 @@ impl<'a> Whitted<'a> {
 
     /// Radiance leaving `hit` back along `ray`; `weight` is the product of the reflection and
     /// transmission factors that brought the camera ray here.
-    fn shade<const ALL: bool>(
+    pub(super) fn shade<const ALL: bool>(
         &self,
         ray: &Ray,
         hit: &Interaction,
         depth: u32,
         weight: f32,
         counts: &mut RayCounts,
+        mut split: Option<&mut Split>,
     ) -> Vec3 {
         let index = self.scene.objects()[hit.object as usize].material;
         let s = &hit.surface;
@@ -192,9 +169,16 @@ impl<'a> Whitted<'a> {
         let mut l = Vec3::ZERO;
         if ALL || sh.traits.emits {
             l += m.emission;
+            if let Some(sp) = split.as_deref_mut() {
+                sp.paths.emission = m.emission;
+            }
         }
-        l += self.scene.settings().ambient * kd * occlusion;
-        l += self.direct::<ALL>(&sh, kd, s, ng, ns, wo, counts);
+        let ambient = self.ambient(ns) * kd * occlusion;
+        l += ambient;
+        l += self.direct::<ALL>(&sh, kd, s, ng, ns, wo, counts, split.as_deref_mut());
+        if let Some(sp) = split.as_deref_mut() {
+            sp.paths.ambient = ambient;
+        }
         if depth >= self.max_depth {
             return saturate(l);
         }
@@ -216,7 +200,11 @@ impl<'a> Whitted<'a> {
                     if self.keep_branch::<ALL>(w, weight * w, &mut counts.not_traced.refraction) {
                         counts.refraction += 1;
                         let r = Ray::new(s.spawn_origin(t, self.offset), t);
-                        l += w * self.trace::<ALL>(&r, depth + 1, weight * w, counts);
+                        let through = w * self.trace::<ALL>(&r, depth + 1, weight * w, counts);
+                        l += through;
+                        if let Some(sp) = split.as_deref_mut() {
+                            sp.paths.refraction = through;
+                        }
                     }
                 }
             }
@@ -233,7 +221,12 @@ impl<'a> Whitted<'a> {
             counts.reflection += 1;
             let d = reflect(dir, ns);
             let r = Ray::new(s.spawn_origin(d, self.offset), d);
-            l += mirror_weight * self.trace::<ALL>(&r, depth + 1, weight * mirror_weight, counts);
+            let mirrored =
+                mirror_weight * self.trace::<ALL>(&r, depth + 1, weight * mirror_weight, counts);
+            l += mirrored;
+            if let Some(sp) = split {
+                sp.paths.reflection = mirrored;
+            }
         }
         saturate(l)
     }
@@ -250,6 +243,7 @@ impl<'a> Whitted<'a> {
         ns: Vec3,
         wo: Vec3,
         counts: &mut RayCounts,
+        mut split: Option<&mut Split>,
     ) -> Vec3 {
         let lights = self.scene.lights();
         if !ALL && !sh.traits.lit {
@@ -257,7 +251,11 @@ impl<'a> Whitted<'a> {
             return Vec3::ZERO;
         }
         let mut l = Vec3::ZERO;
-        for (light, &reachable) in lights.iter().zip(&self.analysis.lights_reachable) {
+        for (index, (light, &reachable)) in lights
+            .iter()
+            .zip(&self.analysis.lights_reachable)
+            .enumerate()
+        {
             if !ALL && !reachable {
                 counts.not_traced.shadow.dark_light += 1;
                 continue;
@@ -295,6 +293,14 @@ impl<'a> Whitted<'a> {
                 .occluded(&Ray::segment(origin, ls.wi, t_max), &mut counts.traversal)
             {
                 l += c;
+                if let Some(sp) = split.as_deref_mut() {
+                    let cos = ns.dot(ls.wi);
+                    sp.paths.diffuse += kd * std::f32::consts::FRAC_1_PI * ls.irradiance * cos;
+                    if ALL || sh.traits.phong {
+                        sp.paths.specular += sh.m.phong(ls.wi, wo, ns) * ls.irradiance * cos;
+                    }
+                    sp.lights[index] = c;
+                }
             }
         }
         l
@@ -322,6 +328,10 @@ impl<'a> Whitted<'a> {
         f * ls.irradiance * cos
     }
 }
+
+/// Most shadow catchers a secondary ray goes through before it is taken to escape (they are
+/// ground planes and walls: a ray crosses few of them).
+const MAX_CATCHER_CROSSINGS: u32 = 16;
 
 /// `l` capped at [`MAX_SAMPLE_RADIANCE`]: every input is finite and bounded, but 64 bounces of
 /// mirror weight up to 2 over many lights are not, and an infinite radiance times a zero weight

@@ -46,6 +46,10 @@ pub struct Material {
     /// shading evaluates them at each hit ([`Material::at_hit`]) and the fields above are only
     /// upper bounds, for the effect decisions.
     pub textured: Option<Arc<TexturedParams>>,
+    /// A shadow catcher (Cycles' flag): camera rays that meet it show what is behind it (the
+    /// background, or nothing under `--transparent`) darkened by the shadow it receives, so a
+    /// model can be composited onto a photographed plate; other rays pass through it.
+    pub shadow_catcher: bool,
 }
 
 impl Default for Material {
@@ -60,6 +64,7 @@ impl Default for Material {
             emission: Vec3::ZERO,
             normal_map: None,
             textured: None,
+            shadow_catcher: false,
         }
     }
 }

@@ -184,6 +184,7 @@ pub fn textured_bounds(base: &Material, p: Arc<TexturedParams>) -> Material {
         emission: p.emission,
         normal_map: base.normal_map,
         textured: Some(p),
+        shadow_catcher: base.shadow_catcher,
     }
 }
 
@@ -223,6 +224,7 @@ impl Material {
                 emission,
                 normal_map: self.normal_map,
                 textured: None,
+                shadow_catcher: self.shadow_catcher,
             },
             occlusion,
             ns: p.bent_normal(at, ns, ng),

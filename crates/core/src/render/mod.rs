@@ -5,16 +5,21 @@
 use crate::accel::PACKET;
 use crate::cryptomatte::{Mattes, PixelSamples, Rank};
 use crate::effects::{Analysis, EffectMode};
-use crate::film::{Film, PixelAov, PixelWindow};
-use crate::integrator::{CameraSample, RayCounts, Whitted};
+use crate::film::{Film, PassLayer, PixelAov, PixelWindow};
+use crate::integrator::{CameraSample, RayCounts, Split, Whitted};
 use crate::math::{Ray, Vec2, Vec3, Vec4};
 use crate::rng::SampleRng;
-use crate::scene::{Interaction, Scene, SettingsError, World};
+use crate::scene::{Scene, SettingsError, World};
 use rayon::prelude::*;
 
+mod centre;
+mod passes;
 mod progress;
 mod threads;
 
+use centre::centre_aov;
+use passes::PassLayout;
+pub use passes::PassRequest;
 pub use progress::{CancelFlag, ProgressSink, TileProgress};
 pub use threads::{MAX_THREADS_PER_CORE, worker_threads};
 
@@ -47,6 +52,8 @@ pub struct RenderOptions {
     /// where nothing was hit, for compositing over a plate. Reflected and refracted rays still
     /// see the background.
     pub transparent: bool,
+    /// The RGB pass layers to fill besides the beauty.
+    pub passes: PassRequest,
 }
 
 impl Default for RenderOptions {
@@ -61,6 +68,7 @@ impl Default for RenderOptions {
             cancel: CancelFlag::default(),
             cryptomatte: None,
             transparent: false,
+            passes: PassRequest::default(),
         }
     }
 }
@@ -107,6 +115,8 @@ struct TileResult {
     y0: u32,
     w: u32,
     pixels: Vec<(Vec4, PixelAov)>,
+    /// The pass values, `PassNames::count` per pixel (empty without passes).
+    passes: Vec<Vec3>,
     /// Object then material ranks, `levels` per pixel (empty without Cryptomatte).
     crypto: [Vec<Rank>; 2],
     counts: RayCounts,
@@ -132,7 +142,8 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
     let bar = &opts.progress;
     bar.start(tiles.len() as u64);
     let analysis = Analysis::new(scene, opts.effects, opts.aov_layers);
-    let integrator = Whitted::new(world, &analysis);
+    let integrator = Whitted::new(world, &analysis).with_transparent(opts.transparent);
+    let layout = PassLayout::new(scene, opts.passes);
     let pixels = window.width() as usize * window.height() as usize;
     let mut mattes = opts
         .cryptomatte
@@ -145,7 +156,7 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
         aov: analysis.aov.on,
         window,
         mattes: mattes.as_ref(),
-        transparent: opts.transparent,
+        layout: &layout,
     };
     let run = || -> Vec<TileResult> {
         tiles
@@ -174,11 +185,19 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
     let unfinished_tiles = tiles.len() - results.len();
     let (ox, oy) = film.origin();
     let film_width = window.width();
+    for (name, colour) in layout.names() {
+        film.add_pass(PassLayer::new(name, pixels, colour));
+    }
+    let k = layout.count();
     for t in results {
         counts += t.counts;
         for (i, (rgba, aov)) in t.pixels.into_iter().enumerate() {
             let (x, y) = (t.x0 + i as u32 % t.w - ox, t.y0 + i as u32 / t.w - oy);
             film.set(x, y, rgba, aov);
+            let at = (y * film_width + x) as usize;
+            for (pass, v) in film.passes_mut().iter_mut().zip(&t.passes[i * k..][..k]) {
+                pass.values_mut()[at] = *v;
+            }
             if let Some(m) = &mut mattes {
                 let n = m.levels();
                 let [object, material] = &t.crypto;
@@ -220,8 +239,8 @@ struct Pass<'a> {
     window: PixelWindow,
     /// The Cryptomatte layers being made, if any (read here only for their ids).
     mattes: Option<&'a Mattes>,
-    /// Escaping camera rays add nothing (see [`RenderOptions::transparent`]).
-    transparent: bool,
+    /// The pass layers being filled.
+    layout: &'a PassLayout,
 }
 
 impl Pass<'_> {
@@ -241,11 +260,14 @@ impl Pass<'_> {
         ];
         let mut samples = PixelSamples::default();
         let mut rays = Vec::new();
+        let k = self.layout.count();
+        let mut passes = vec![Vec3::ZERO; n * k];
         for (i, (x, y)) in (y0..y1)
             .flat_map(|y| (x0..x1).map(move |x| (x, y)))
             .enumerate()
         {
-            pixels.push(self.pixel(x, y, &mut samples, &mut rays, &mut counts));
+            let out = &mut passes[i * k..][..k];
+            pixels.push(self.pixel(x, y, &mut samples, &mut rays, &mut counts, out));
             if let Some(m) = self.mattes {
                 let st = self.scene.settings();
                 let total = st.spp * st.spp * self.lens_rays;
@@ -262,6 +284,7 @@ impl Pass<'_> {
             y0,
             w: x1 - x0,
             pixels,
+            passes,
             crypto,
             counts,
         }
@@ -278,6 +301,7 @@ impl Pass<'_> {
         samples: &mut PixelSamples,
         rays: &mut Vec<Ray>,
         counts: &mut RayCounts,
+        passes: &mut [Vec3],
     ) -> (Vec4, PixelAov) {
         let st = self.scene.settings();
         let cam = self.scene.camera();
@@ -299,22 +323,40 @@ impl Pass<'_> {
         counts.not_traced.lens +=
             u64::from(n * n) * u64::from(st.lens_samples.saturating_sub(self.lens_rays));
         let mut sum = Vec4::ZERO;
-        let mut traced = [CameraSample::default(); PACKET];
-        for packet in rays.chunks(PACKET) {
-            let traced = &mut traced[..packet.len()];
-            self.integrator.camera_rays(packet, counts, traced);
-            for sample in traced.iter() {
-                match sample.object {
-                    Some(object) if self.mattes.is_some() => samples.add(object),
-                    None if self.transparent => continue,
-                    _ => {}
+        let mut add = |sample: &CameraSample, samples: &mut PixelSamples| {
+            if let (Some(object), Some(_)) = (sample.object, self.mattes) {
+                samples.add(object);
+            }
+            sum += sample.radiance.extend(sample.alpha);
+        };
+        if self.layout.splits() {
+            // Split samples are traced one by one (the same samples as in packets).
+            let lights = self.scene.lights().len();
+            let mut per_light = vec![Vec3::ZERO; lights];
+            for ray in rays.iter() {
+                let mut split = Split::new(&mut per_light);
+                let sample = self.integrator.camera_ray_split(ray, counts, &mut split);
+                add(&sample, samples);
+                self.layout.accumulate(&split, &sample, passes);
+            }
+        } else {
+            let mut traced = [CameraSample::default(); PACKET];
+            for packet in rays.chunks(PACKET) {
+                let traced = &mut traced[..packet.len()];
+                self.integrator.camera_rays(packet, counts, traced);
+                for sample in traced.iter() {
+                    add(sample, samples);
+                    if self.layout.shadow {
+                        *passes.last_mut().expect("the shadow pass") += sample.shadow;
+                    }
                 }
-                sum += sample
-                    .radiance
-                    .extend(if sample.opaque { 1.0 } else { 0.0 });
             }
         }
-        let rgba = sum / (n * n * self.lens_rays) as f32;
+        let total = (n * n * self.lens_rays) as f32;
+        for v in passes.iter_mut() {
+            *v /= total;
+        }
+        let rgba = sum / total;
         let aov = if self.aov {
             centre_aov(self.scene, self.integrator, x, y, counts)
         } else {
@@ -322,55 +364,5 @@ impl Pass<'_> {
             PixelAov::MISS
         };
         (rgba, aov)
-    }
-}
-/// What the pinhole ray through the centre of pixel `(x, y)` hits: exactly the ray a compositor
-/// rebuilds from the EXR's `worldToNDC`.
-fn centre_aov(
-    scene: &Scene,
-    integrator: &Whitted,
-    x: u32,
-    y: u32,
-    counts: &mut RayCounts,
-) -> PixelAov {
-    let st = scene.settings();
-    let cam = scene.camera();
-    let ray = cam.centre_ray(
-        integrator.world().accel().frame(),
-        Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
-        st.width,
-        st.height,
-    );
-    counts.aov += 1;
-    let world = integrator.world();
-    let Some(traced) = world.trace(&ray, &mut counts.traversal) else {
-        return PixelAov::MISS;
-    };
-    // Texture coordinates always, for the uv layer (shading computes them only where a
-    // texture reads them).
-    let Interaction {
-        prim,
-        object,
-        surface: s,
-        ..
-    } = world.interaction(&traced, true);
-    let m = scene.material_of(object);
-    // A textured material's albedo is the one shading uses at this hit.
-    let albedo = match m.textured {
-        Some(_) => m
-            .at_hit(&scene.geometry().hit_attributes(prim, &s), s.ns, s.ng)
-            .map_or(Vec3::ZERO, |a| a.material.diffuse.eval(s.p, s.uv)),
-        None => m.diffuse.eval(s.p, s.uv),
-    };
-    // The normal is reported as the surface defines it (outward / winding), not flipped
-    // towards the camera, so it compares directly with other engines' normals.
-    PixelAov {
-        depth: (s.p - cam.position()).dot(cam.forward()),
-        normal: s.ns,
-        prim_id: prim as i32,
-        object_id: object as i32,
-        albedo,
-        position: s.p,
-        uv: s.uv,
     }
 }

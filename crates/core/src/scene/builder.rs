@@ -18,6 +18,7 @@ pub struct SceneBuilder {
     materials: Vec<Material>,
     material_names: Vec<String>,
     lights: Vec<Light>,
+    light_names: Vec<String>,
     settings: Settings,
     warnings: Vec<String>,
     /// The first element outside [`limits`], reported by [`SceneBuilder::build`]: loaders
@@ -42,6 +43,7 @@ impl SceneBuilder {
             materials: Vec::new(),
             material_names: Vec::new(),
             lights: Vec::new(),
+            light_names: Vec::new(),
             settings: Settings::default(),
             warnings: Vec::new(),
             rejected: None,
@@ -78,11 +80,20 @@ impl SceneBuilder {
         self.materials.len() as u32 - 1
     }
 
-    /// Adds a light.
+    /// Adds a light named `light<index>`.
     pub fn add_light(&mut self, l: Light) {
+        let name = format!("light{}", self.lights.len());
+        self.add_named_light(&name, l);
+    }
+
+    /// Adds a light with the name the scene file gives it (what its per-light pass is
+    /// called), made unique and EXR-safe by [`unique_light_name`].
+    pub fn add_named_light(&mut self, name: &str, l: Light) {
         let n = self.lights.len();
         self.check(|| format!("light[{n}]"), limits::check_light(&l));
+        let name = unique_light_name(&self.light_names, name);
         self.lights.push(l);
+        self.light_names.push(name);
     }
 
     /// Number of materials so far.
@@ -164,10 +175,13 @@ impl SceneBuilder {
             materials: self.materials,
             material_names: self.material_names,
             lights: self.lights,
+            light_names: self.light_names,
             camera,
             settings: self.settings,
             warnings: self.warnings,
             frame: self.frame,
+            environment: None,
+            sun_light: false,
         })
     }
 
@@ -181,6 +195,35 @@ impl SceneBuilder {
     pub fn warn(&mut self, message: impl Into<String>) {
         self.warnings.push(message.into());
     }
+}
+
+/// `name` as a light name: every character other than a letter, digit, `_` or `-` becomes
+/// `_` (an EXR layer name must not gain dots), an empty name becomes `light`, and a name
+/// already in `taken` gets the first free suffix `_2`, `_3`, ...
+pub fn unique_light_name(taken: &[String], name: &str) -> String {
+    let clean: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let clean = if clean.is_empty() {
+        "light".to_string()
+    } else {
+        clean
+    };
+    let free = |n: &str| !taken.iter().any(|t| t == n);
+    if free(&clean) {
+        return clean;
+    }
+    (2..)
+        .map(|k| format!("{clean}_{k}"))
+        .find(|n| free(n))
+        .expect("a free suffix")
 }
 
 #[cfg(test)]
@@ -234,5 +277,13 @@ mod tests {
             .expect("valid camera");
         let scene = b.build(cam).expect("within the limits");
         assert_eq!([scene.object_of(0), scene.object_of(1)], [0, 0]);
+    }
+
+    #[test]
+    fn light_names_are_exr_safe_and_unique() {
+        let taken = vec!["key".to_string(), "key_2".to_string()];
+        assert_eq!(unique_light_name(&taken, "key"), "key_3");
+        assert_eq!(unique_light_name(&taken, "fill light.1"), "fill_light_1");
+        assert_eq!(unique_light_name(&taken, ""), "light");
     }
 }

@@ -24,7 +24,10 @@ pub use settings::{
 };
 pub use world::World;
 
+use std::sync::Arc;
+
 use crate::camera::Camera;
+use crate::environment::Environment;
 use crate::geometry::{Geometry, SurfacePoint};
 use crate::light::Light;
 use crate::material::Material;
@@ -51,10 +54,17 @@ pub struct Scene {
     materials: Vec<Material>,
     material_names: Vec<String>,
     lights: Vec<Light>,
+    /// Light names, by light index (the scene file's, else `light<index>`).
+    light_names: Vec<String>,
     camera: Camera,
     settings: Settings,
     warnings: Vec<String>,
     frame: Option<Frame>,
+    /// The world around the scene, if any (`--env`, `[environment]`); shared, since a map
+    /// and its irradiance table are large and animation frames reuse them.
+    environment: Option<Arc<Environment>>,
+    /// Whether the last light is the environment's sun (replaced with the environment).
+    sun_light: bool,
 }
 
 /// A hit with its surface geometry and owning object.
@@ -110,6 +120,39 @@ impl Scene {
     /// Lights.
     pub fn lights(&self) -> &[Light] {
         &self.lights
+    }
+
+    /// Light names, by light index: unique, and made of letters, digits, `_` and `-` only, so
+    /// that they can name EXR layers (`light.<name>.R`).
+    pub fn light_names(&self) -> &[String] {
+        &self.light_names
+    }
+
+    /// The environment around the scene, if any.
+    pub fn environment(&self) -> Option<&Environment> {
+        self.environment.as_deref()
+    }
+
+    /// Sets (or removes) the environment. Its sun, when it has one, becomes the last light,
+    /// named `sun`; a previous environment's sun light goes with it.
+    pub fn set_environment(&mut self, environment: Option<Arc<Environment>>) {
+        if self.sun_light {
+            self.lights.pop();
+            self.light_names.pop();
+            self.sun_light = false;
+        }
+        if let Some(sun) = environment.as_ref().and_then(|e| e.sun_light()) {
+            let name = builder::unique_light_name(&self.light_names, "sun");
+            self.lights.push(sun);
+            self.light_names.push(name);
+            self.sun_light = true;
+        }
+        self.environment = environment;
+    }
+
+    /// Records a problem the caller survived (a clamped environment texel, ...).
+    pub fn warn(&mut self, message: impl Into<String>) {
+        self.warnings.push(message.into());
     }
 
     /// Camera.

@@ -30,18 +30,14 @@ pub fn default_scene_with(overrides: &[Override]) -> Result<Scene, SceneError> {
 /// [`default_scene_with`] at `frame` (`--frame`): the default scene is a still, so any frame
 /// is an error, unless a `-D animation.frames=N` made it a (motionless) animation.
 pub fn default_scene_at(overrides: &[Override], frame: Option<u32>) -> Result<Scene, SceneError> {
+    // The embedded assets by name; any other file (an environment map given with --env or
+    // -D environment.file) from disk, relative paths starting in scenes/ as for the file.
     let resolver = |path: &Path| {
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        ASSETS
-            .iter()
-            .find(|(asset, _)| *asset == name)
-            .map(|(_, bytes)| bytes.to_vec())
-            .ok_or_else(|| {
-                std::io::Error::new(
-                    std::io::ErrorKind::NotFound,
-                    "not one of the assets embedded in the binary",
-                )
-            })
+        match ASSETS.iter().find(|(asset, _)| *asset == name) {
+            Some((_, bytes)) => Ok(bytes.to_vec()),
+            None => super::read_file_bytes(path),
+        }
     };
     load_toml_str_at(
         DEFAULT_SCENE,

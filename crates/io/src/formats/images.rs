@@ -30,9 +30,16 @@ fn decode_bounded(bytes: &[u8]) -> Result<DynamicImage, String> {
         .saturating_mul(MAX_RATIO)
         .saturating_add(SLACK);
     let reader = || {
-        ImageReader::new(Cursor::new(bytes))
+        let r = ImageReader::new(Cursor::new(bytes))
             .with_guessed_format()
-            .map_err(|e| e.to_string())
+            .map_err(|e| e.to_string())?;
+        // The image crate reads more (Radiance HDR, for environments), but textures are PNG
+        // or JPEG only: the budgets below are sized for 8-bit and 16-bit texels.
+        match r.format() {
+            Some(image::ImageFormat::Png | image::ImageFormat::Jpeg) => Ok(r),
+            Some(other) => Err(format!("a {other:?} image; textures are PNG or JPEG")),
+            None => Err("not a PNG or JPEG image".to_string()),
+        }
     };
     let (w, h) = reader()?.into_dimensions().map_err(|e| e.to_string())?;
     if w > MAX_SIDE || h > MAX_SIDE {

@@ -12,6 +12,7 @@
 //! [`Resolver`], so the embedded default scene and tests can supply bytes from memory.
 
 pub mod builtin;
+pub mod environment;
 mod error;
 pub mod gltf;
 pub mod images;
@@ -73,9 +74,9 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError
 }
 
 /// [`load_with`] plus `-D` overrides, applied in order: in a TOML scene to the document
-/// before it is checked (any key of the schema); in every other format only `render.*` keys,
-/// through the same `[render]` schema, over the settings the file set (other keys are refused
-/// before the file is read).
+/// before it is checked (any key of the schema); in every other format only `render.*` and
+/// `environment.*` keys, through the same schemas, over what the file set (other keys are
+/// refused before the file is read).
 pub fn load_with_overrides(
     path: &Path,
     options: &LoadOptions,
@@ -99,7 +100,7 @@ pub fn load_with_overrides(
         load_by_extension(path, options)?
     };
     if !is_toml {
-        toml::apply_render_overrides(scene.settings_mut(), overrides, path)?;
+        toml::apply_render_overrides(&mut scene, overrides, path)?;
     }
     // Every format's settings meet the same limits (TOML and .scn also check them where they
     // can name the element or line).

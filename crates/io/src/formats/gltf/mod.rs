@@ -175,7 +175,12 @@ fn load_inner(
                 light.index(),
                 node.index()
             );
-            b.add_light(nodes::light(&light, world, &element, origin)?);
+            let l = nodes::light(&light, world, &element, origin)?;
+            // The light's own name, else its node's: what its pass is called.
+            match light.name().or(node.name()) {
+                Some(name) => b.add_named_light(name, l),
+                None => b.add_light(l),
+            }
         }
         if let Some(camera) = node.camera() {
             let element = format!("cameras[{}] at nodes[{}]", camera.index(), node.index());

@@ -108,6 +108,7 @@ impl<'a> MtlConverter<'a> {
             emission,
             normal_map: None,
             textured: None,
+            shadow_catcher: false,
         }
     }
 

@@ -2,6 +2,7 @@
 //! [`schema`], then checking every value and reference while building the [`Scene`].
 
 mod animation;
+mod environment;
 mod mesh;
 mod overrides;
 mod render;
@@ -127,7 +128,10 @@ impl Loader<'_> {
         }
         for (i, l) in doc.light.iter().enumerate() {
             let light = self.light(&format!("light[{i}]"), l)?;
-            self.builder.add_light(light);
+            match &l.name {
+                Some(name) => self.builder.add_named_light(name, light),
+                None => self.builder.add_light(light),
+            }
         }
         for (i, s) in doc.sphere.iter().enumerate() {
             let element = match &s.name {
@@ -163,9 +167,14 @@ impl Loader<'_> {
             }
         };
         let origin = self.origin;
-        self.builder
+        let mut scene = self
+            .builder
             .build(camera)
-            .map_err(|e| SceneError::invalid(origin, e.element, e.message))
+            .map_err(|e| SceneError::invalid(origin, e.element, e.message))?;
+        if let Some(env) = &doc.environment {
+            environment::apply(&mut scene, env, origin, self.resolver)?;
+        }
+        Ok(scene)
     }
 
     fn err(&self, element: &str, message: impl Into<String>) -> SceneError {
@@ -216,6 +225,7 @@ impl Loader<'_> {
                 .map_or(Ok(d.emission), |c| self.color(e, "emission", c))?,
             normal_map: None,
             textured: None,
+            shadow_catcher: m.shadow_catcher.unwrap_or(false),
         };
         self.finite(e, "shininess", &[material.shininess])?;
         if material.shininess < 0.0 {

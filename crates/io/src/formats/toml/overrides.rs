@@ -23,7 +23,7 @@ use ::toml::{Table, Value};
 use super::render::merge;
 use super::schema::SceneDoc;
 use crate::formats::SceneError;
-use lumis_core::scene::Settings;
+use lumis_core::scene::Scene;
 
 /// One `-D KEY=VALUE`: where in a scene document, and the value to put there.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,14 +42,39 @@ impl Override {
         &self.key
     }
 
-    /// Whether the key lies under `[render]`, the only table every format has.
+    /// Whether the key lies under `[render]` or `[environment]`, the tables every format
+    /// has.
     pub fn is_render(&self) -> bool {
-        self.path[0] == "render"
+        self.path[0] == "render" || self.path[0] == "environment"
     }
 
     /// How errors name the override: `-D render.spp=abc`.
     fn element(&self) -> String {
         format!("-D {self}")
+    }
+}
+
+impl Override {
+    /// The override `key = value` with a string value (what a flag such as `--env FILE`
+    /// stands for), without quoting it for the parser.
+    pub fn string(key: &str, value: &str) -> Result<Self, String> {
+        Self::with_value(key, Value::String(value.to_owned()))
+    }
+
+    /// The override `key = value` with a number value.
+    pub fn number(key: &str, value: f64) -> Result<Self, String> {
+        Self::with_value(key, Value::Float(value))
+    }
+
+    /// The override `key = value` with a boolean value.
+    pub fn boolean(key: &str, value: bool) -> Result<Self, String> {
+        Self::with_value(key, Value::Boolean(value))
+    }
+
+    fn with_value(key: &str, value: Value) -> Result<Self, String> {
+        let mut o: Override = format!("{key}=0").parse()?;
+        o.value = value;
+        Ok(o)
     }
 }
 
@@ -195,17 +220,18 @@ pub(crate) fn refuse_non_render(origin: &Path, o: &Override) -> SceneError {
         origin,
         o.element(),
         format!(
-            ".{ext} files take only render.* overrides; `{}` exists only in TOML scenes",
+            ".{ext} files take only render.* and environment.* overrides; `{}` exists only \
+             in TOML scenes",
             o.key()
         ),
     )
 }
 
-/// Applies the `render.*` overrides to the settings of a scene loaded from a format without a
-/// TOML document, through the `[render]` schema and its checks; any other key is refused by
-/// name.
+/// Applies the `render.*` and `environment.*` overrides to a scene loaded from a format
+/// without a TOML document, through the `[render]` and `[environment]` schemas and their
+/// checks; any other key is refused by name.
 pub fn apply_render_overrides(
-    settings: &mut Settings,
+    scene: &mut Scene,
     overrides: &[Override],
     origin: &Path,
 ) -> Result<(), SceneError> {
@@ -216,12 +242,15 @@ pub fn apply_render_overrides(
         return Ok(());
     }
     let doc = apply(&Table::new(), overrides, origin)?;
-    let merged =
-        merge(settings, &doc.render).map_err(|m| SceneError::invalid(origin, "-D render", m))?;
+    let merged = merge(scene.settings(), &doc.render)
+        .map_err(|m| SceneError::invalid(origin, "-D render", m))?;
     merged
         .validate()
         .map_err(|e| SceneError::invalid(origin, "-D render", e.to_string()))?;
-    *settings = merged;
+    *scene.settings_mut() = merged;
+    if let Some(env) = &doc.environment {
+        super::environment::apply(scene, env, origin, &crate::formats::read_file_bytes)?;
+    }
     Ok(())
 }
 

@@ -22,6 +22,17 @@ pub(super) struct SceneDoc {
     #[serde(default)]
     pub mesh: Vec<MeshDoc>,
     pub animation: Option<AnimationDoc>,
+    pub environment: Option<EnvironmentDoc>,
+}
+
+/// `[environment]` (`environment.rs`).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct EnvironmentDoc {
+    pub file: Option<String>,
+    pub rotation: Option<f32>,
+    pub intensity: Option<f32>,
+    pub sun: Option<bool>,
 }
 
 /// `[render]`: every key optional, defaults from `Settings::default()`.
@@ -70,6 +81,8 @@ pub(super) struct MaterialDoc {
     pub transmission: Option<f32>,
     pub ior: Option<f32>,
     pub emission: Option<[f32; 3]>,
+    /// Cycles' shadow catcher: only the shadow the surface receives is rendered.
+    pub shadow_catcher: Option<bool>,
 }
 
 /// `[[light]]`. One flat table (not a serde-tagged enum) so errors keep exact line numbers;
@@ -77,6 +90,8 @@ pub(super) struct MaterialDoc {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct LightDoc {
+    /// Names the light's pass (`light.<name>`); default `light<index>`.
+    pub name: Option<String>,
     #[serde(rename = "type")]
     pub kind: LightKind,
     pub position: Option<[f32; 3]>,

@@ -16,7 +16,7 @@ use ::exr::prelude::{
 use super::cryptomatte::{self, CryptoHeader};
 use super::{
     ATTR_EXPOSURE, ATTR_LENS_SAMPLES, ATTR_PARTIAL, ATTR_RENDER_SECONDS, ATTR_SPP_PER_AXIS,
-    AovLayers, ChannelLayout, ExrCamera, ExrMetadata, aov_layers, frame, provenance,
+    AovLayers, ChannelLayout, ExrCamera, ExrMetadata, aov_layers, frame, pass_layers, provenance,
 };
 use lumis_core::film::PixelWindow;
 
@@ -34,6 +34,8 @@ pub struct ExrHeader {
     pub camera: ExrCamera,
     /// The Cryptomatte layers, in the order of their metadata keys.
     pub crypto: Vec<CryptoHeader>,
+    /// The RGB pass layers (lumis names: `diffuse`, `light.key`, `shadow`), in channel order.
+    pub passes: Vec<String>,
     /// Every custom attribute (`lumis/...`, `cryptomatte/...`), by name.
     pub attributes: BTreeMap<String, HeaderValue>,
     /// The channels as `name (type)`, in the file's (alphabetical) order.
@@ -128,7 +130,9 @@ impl ExrHeader {
         };
         let aov_layers = aov_layers::present(layout, has);
         let crypto = cryptomatte::read_headers(header, layout, has)?;
-        let float_rgba = check_channels(header, layout, aov_layers, &crypto, tile.is_some())?;
+        let passes = pass_layers::present(layout, &names);
+        let float_rgba =
+            check_channels(header, layout, aov_layers, &passes, &crypto, tile.is_some())?;
         let camera = ExrCamera::read(header)?;
         let other = &header.own_attributes.other;
         let float = |name: &str| match other.get(&Text::from(name)) {
@@ -165,6 +169,7 @@ impl ExrHeader {
             meta,
             camera,
             crypto,
+            passes,
             attributes: other
                 .iter()
                 .map(|(k, v)| {
@@ -230,6 +235,7 @@ fn check_channels(
     header: &Header,
     layout: ChannelLayout,
     aov: AovLayers,
+    passes: &[String],
     crypto: &[CryptoHeader],
     tile: bool,
 ) -> Result<bool, String> {
@@ -244,10 +250,12 @@ fn check_channels(
     let mut expected: BTreeMap<String, SampleType> =
         beauty.into_iter().map(|n| (n, rgba_type)).collect();
     let aov_names = aov_layers::names(aov, layout);
+    let pass_names = pass_layers::names(passes);
     let float_names = super::BASE_FLOAT_CHANNELS
         .iter()
         .chain(&aov_names)
         .map(|n| layout.channel(n))
+        .chain(pass_names.iter().map(|n| layout.channel(n)))
         .chain(crypto.iter().flat_map(|c| c.channels(layout)));
     expected.extend(float_names.map(|n| (n, SampleType::F32)));
     for c in &header.channels.list {

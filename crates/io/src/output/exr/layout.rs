@@ -13,6 +13,15 @@
 //! | `P.X/Y/Z`        | `ViewLayer.Position.X/Y/Z`       |
 //! | `uv.U/V`         | `ViewLayer.UV.U/V`, plus `ViewLayer.UV.A` (1 on hits, 0 on misses) |
 //! | `CryptoObject00.R` | `ViewLayer.CryptoObject00.R` (type name `ViewLayer.CryptoObject`) |
+//! | `diffuse.R/G/B`  | `ViewLayer.DiffDir.R/G/B`        |
+//! | `specular.*`     | `ViewLayer.GlossDir.*`           |
+//! | `reflection.*`   | `ViewLayer.GlossInd.*`           |
+//! | `refraction.*`   | `ViewLayer.TransInd.*`           |
+//! | `emission.*`     | `ViewLayer.Emit.*`               |
+//! | `background.*`   | `ViewLayer.Env.*`                |
+//! | `ambient.*`      | `ViewLayer.Ambient.*` (lumis's own; Blender has no such pass) |
+//! | `light.key.*`    | `ViewLayer.Combined_key.*` (Blender's light-group passes) |
+//! | `shadow.*`       | `ViewLayer.Shadow Catcher.*`     |
 //!
 //! The pass names are Blender's own (`RE_PASSNAME_*`: `Combined`, `Depth`, `Normal`,
 //! `IndexOB`, `DiffCol`, `Position`, `UV`) with the channel letters Blender gives each pass
@@ -51,6 +60,11 @@ impl ChannelLayout {
                     "Z" => "Depth.Z".to_string(),
                     "id.object" => "IndexOB.X".to_string(),
                     "id.prim" => "IndexPrim.X".to_string(),
+                    // A light's name has no dots (`Scene::light_names`): the channel is last.
+                    _ if name.starts_with("light.") => match name[6..].rsplit_once('.') {
+                        Some((light, c)) => format!("Combined_{light}.{c}"),
+                        None => name.to_string(),
+                    },
                     _ => match name.split_once('.') {
                         Some((layer, c)) => format!("{}.{c}", blender_pass(layer)),
                         None => name.to_string(),
@@ -97,6 +111,17 @@ fn blender_pass(layer: &str) -> &str {
         "albedo" => "DiffCol",
         "P" => "Position",
         "uv" => "UV",
+        // The light-path passes: Blender's names where it has the pass (Cycles puts
+        // everything seen through the first glossy or transmission bounce in its indirect
+        // pass, as lumis splits at the first hit).
+        "diffuse" => "DiffDir",
+        "specular" => "GlossDir",
+        "reflection" => "GlossInd",
+        "refraction" => "TransInd",
+        "emission" => "Emit",
+        "background" => "Env",
+        "ambient" => "Ambient",
+        "shadow" => "Shadow Catcher",
         other => other,
     }
 }
@@ -119,6 +144,15 @@ mod tests {
             ("uv.V", "ViewLayer.UV.V"),
             ("uv.A", "ViewLayer.UV.A"),
             ("CryptoObject01.B", "ViewLayer.CryptoObject01.B"),
+            ("diffuse.R", "ViewLayer.DiffDir.R"),
+            ("specular.G", "ViewLayer.GlossDir.G"),
+            ("reflection.B", "ViewLayer.GlossInd.B"),
+            ("refraction.R", "ViewLayer.TransInd.R"),
+            ("emission.R", "ViewLayer.Emit.R"),
+            ("background.G", "ViewLayer.Env.G"),
+            ("ambient.B", "ViewLayer.Ambient.B"),
+            ("light.key_2.R", "ViewLayer.Combined_key_2.R"),
+            ("shadow.R", "ViewLayer.Shadow Catcher.R"),
         ] {
             assert_eq!(b.channel(lumis), blender);
             assert_eq!(ChannelLayout::Lumis.channel(lumis), lumis);

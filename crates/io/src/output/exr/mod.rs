@@ -8,7 +8,8 @@
 //! | `N.X`, `N.Y`, `N.Z`     | FLOAT         | world-space unit shading normal; 0 where missed    |
 //! | `id.prim`, `id.object`  | FLOAT         | primitive / object index as a float; -1 where missed |
 //!
-//! Optional layers: `albedo`, `P`, `uv` (`aov_layers.rs`, `--aov`), the Cryptomatte layers
+//! Optional layers: `albedo`, `P`, `uv` (`aov_layers.rs`, `--aov`), the light-path, per-light
+//! and shadow passes (`pass_layers.rs`, `--aov lightpaths,lights`), the Cryptomatte layers
 //! and their metadata (`cryptomatte.rs`, `--cryptomatte`); `--layout blender` renames every
 //! channel to Blender's convention ([`ChannelLayout`]).
 //!
@@ -40,6 +41,7 @@ mod frame;
 mod header;
 mod header_order;
 mod layout;
+mod pass_layers;
 mod pixels;
 mod provenance;
 mod read;

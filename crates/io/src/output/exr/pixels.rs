@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use ::exr::prelude::{AnyChannels, FlatSamples, Layer};
 
 use super::{BASE_FLOAT_CHANNELS, ExrHeader, aov_layers};
-use lumis_core::film::{Film, PixelAov};
+use lumis_core::film::{Film, PassLayer, PixelAov, is_colour_pass};
 use lumis_core::math::{Vec3, Vec4};
 
 /// The film `layer` holds (the file's only layer, described by `header`) and the `Z` value
@@ -112,6 +112,17 @@ pub(super) fn film(
         }
         let colour = Vec4::new(rgba[0][i], rgba[1][i], rgba[2][i], rgba[3][i]);
         film.set((i % w) as u32, (i / w) as u32, colour, aov);
+    }
+    for name in &header.passes {
+        let rgb = ["R", "G", "B"]
+            .iter()
+            .map(|c| channel(&format!("{name}.{c}")))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut layer = PassLayer::new(name, pixels, is_colour_pass(name));
+        for (i, v) in layer.values_mut().iter_mut().enumerate() {
+            *v = Vec3::new(rgb[0][i], rgb[1][i], rgb[2][i]);
+        }
+        film.add_pass(layer);
     }
     for crypto in &header.crypto {
         let names = crypto.channels(layout);

@@ -17,7 +17,7 @@ use super::header_order::sorted_header;
 use super::{
     ATTR_EXPOSURE, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
     ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SPP, ATTR_SPP_PER_AXIS, ExrCamera, ExrMetadata,
-    HALF_MAX, SOFTWARE, aov_layers, cryptomatte, frame, provenance,
+    HALF_MAX, SOFTWARE, aov_layers, cryptomatte, frame, pass_layers, provenance,
 };
 use crate::output::staged::write_atomically;
 use crate::output::{OutputError, check_not_empty};
@@ -154,6 +154,9 @@ fn channel_list(film: &Film, meta: &ExrMetadata) -> SmallVec<[AnyChannel<FlatSam
     ];
     for (name, values) in aov_layers::channels(film, meta.aov_layers, meta.layout) {
         channels.push(channel(name, float(values)));
+    }
+    for (name, values) in pass_layers::channels(film) {
+        channels.push(channel(&name, float(values)));
     }
     for layer in film.crypto() {
         for (name, values) in cryptomatte::channels(layer) {
