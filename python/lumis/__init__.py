@@ -116,7 +116,9 @@ class AllHits:
 
 class Image(Dict[str, np.ndarray]):
     """A render: the EXR's channels by name (`R`, `G`, `B`, `A`, `Z`, `N.X`, `N.Y`, `N.Z`,
-    `id.object`, `id.prim`, and `albedo.R/G/B`, `P.X/Y/Z`, `uv.U/V` when asked; Blender's
+    `id.object`, `id.prim`, and `albedo.R/G/B`, `P.X/Y/Z`, `uv.U/V`, the light paths
+    (`diffuse.R/G/B`, `specular`, `reflection`, `refraction`, `emission`, `ambient`,
+    `background`, which add up to RGB) and `light.<name>.R/G/B` when asked; Blender's
     names with `layout="blender"`), each an `(H, W)` array holding exactly the values the EXR
     `lumis render` writes would hold: RGBA as float16 (float32 with `float_rgba=True`),
     linear and already exposed; the rest float32 (ids as float, -1 where the centre ray

@@ -14,7 +14,7 @@ use pyo3::types::PyDict;
 use lumis_core::accel::{AccelKind, BuildOptions};
 use lumis_core::film::{DisplayTransform, Tonemap, check_finite};
 use lumis_core::geometry::Precision;
-use lumis_core::render::{RenderOptions, render as render_world, worker_threads};
+use lumis_core::render::{PassRequest, RenderOptions, render as render_world, worker_threads};
 use lumis_core::scene::World;
 use lumis_io::output::{
     AovLayers, ChannelLayout, Develop, ExrCamera, ExrMetadata, ExrSamples, StagedOutputs, develop,
@@ -93,6 +93,10 @@ pub fn render<'py>(
         seed: request.seed,
         threads: worker_threads(request.threads).0,
         transparent: request.transparent,
+        passes: PassRequest {
+            light_paths: request.aovs.iter().any(|a| a == "lightpaths"),
+            lights: request.aovs.iter().any(|a| a == "lights"),
+        },
         ..RenderOptions::default()
     };
     let kind = request.accel;

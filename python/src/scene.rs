@@ -255,10 +255,11 @@ impl PyScene {
     ) -> PyResult<Bound<'py, PyDict>> {
         if let Some(bad) = aovs
             .iter()
-            .find(|a| !["albedo", "position", "uv"].contains(&a.as_str()))
+            .find(|a| !["albedo", "position", "uv", "lightpaths", "lights"].contains(&a.as_str()))
         {
             return Err(PyValueError::new_err(format!(
-                "aovs: {bad:?} is not a layer; expected \"albedo\", \"position\" or \"uv\""
+                "aovs: {bad:?} is not a layer; expected \"albedo\", \"position\", \"uv\", \
+                 \"lightpaths\" or \"lights\""
             )));
         }
         let choice = |what: &str, value: &str, names: &[&str]| -> PyResult<usize> {

@@ -47,8 +47,13 @@ def assert_same(image: lumis.Image, exr: dict):
             dict(width=32, height=32, spp=1, layout="blender", exposure=0.5, max_depth=2),
             ["--layout", "blender", "--exposure", "0.5", "--max-depth", "2"],
         ),
+        (
+            SCENES / "default.toml",
+            dict(width=48, height=27, spp=1, aovs=["lightpaths", "lights"], float_rgba=True),
+            ["--aov", "lightpaths,lights", "--float"],
+        ),
     ],
-    ids=["toml", "obj-aovs-float", "gltf-blender"],
+    ids=["toml", "obj-aovs-float", "gltf-blender", "toml-light-paths"],
 )
 def test_render_equals_the_cli_exr(cli, tmp_path, path, kwargs, flags):
     scene = lumis.load(path)
@@ -95,3 +100,39 @@ def test_render_errors():
         scene.render(8, 8, 1, exposure=float("nan"))
     with pytest.raises(ValueError, match="layout"):
         scene.render(8, 8, 1, layout="nuke")
+
+
+def write_hdr(path, rgb):
+    """A flat-RGBE Radiance file of the `(H, W, 3)` float array `rgb`."""
+    h, w, _ = rgb.shape
+    m = rgb.max(axis=-1)
+    e = np.where(m > 1e-32, np.floor(np.log2(np.maximum(m, 1e-32))) + 1, 0)
+    scale = np.where(m > 1e-32, 256.0 / np.exp2(e), 0.0)
+    out = np.zeros((h, w, 4), np.uint8)
+    out[..., :3] = np.clip(rgb * scale[..., None], 0, 255).astype(np.uint8)
+    out[..., 3] = np.where(m > 1e-32, e + 128, 0).astype(np.uint8)
+    with open(path, "wb") as f:
+        f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w))
+        f.write(out.tobytes())
+
+
+def test_an_environment_from_defines_renders_as_the_cli(cli, tmp_path):
+    """`environment.*` defines reach every format; the light paths add up to RGB."""
+    v = np.linspace(0, 1, 16)[:, None, None]
+    write_hdr(tmp_path / "sky.hdr", np.broadcast_to(v * [0.2, 0.4, 0.8] + 0.1, (16, 32, 3)))
+    path = ASSETS / "knot.obj"
+    defines = [f'environment.file="{tmp_path / "sky.hdr"}"', "environment.rotation=45"]
+    image = lumis.load(path, defines=defines).render(
+        32, 24, 1, aovs=["lightpaths"], float_rgba=True, exposure=0.0
+    )
+    flags = [x for d in defines for x in ("-D", d)]
+    run_cli(cli, "render", path, "-o", tmp_path / "cli.exr", "--quiet", "--width", 32,
+            "--height", 24, "--spp", 1, "--aov", "lightpaths", "--float", "--exposure", 0,
+            *flags)
+    assert_same(image, read_exr(tmp_path / "cli.exr"))
+    paths = ["diffuse", "specular", "reflection", "refraction", "emission", "ambient",
+             "background"]
+    for c in "RGB":
+        total = sum(image[f"{p}.{c}"] for p in paths)
+        assert np.allclose(total, image[c], rtol=1e-5, atol=1e-6), c
+    assert image["background.B"].max() > 0.1  # the sky is seen around the knot

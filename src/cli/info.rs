@@ -48,8 +48,8 @@ fn describe(path: &Path, scene: &Scene) -> String {
         let _ = writeln!(s, "  ... and {} more objects", scene.objects().len() - 20);
     }
     let _ = writeln!(s, "lights: {}", scene.lights().len());
-    for light in scene.lights() {
-        let _ = writeln!(s, "  {light:?}");
+    for (light, name) in scene.lights().iter().zip(scene.light_names()) {
+        let _ = writeln!(s, "  {name}: {light:?}");
     }
     let cam = scene.camera();
     let _ = writeln!(

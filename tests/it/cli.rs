@@ -184,6 +184,8 @@ fn info_describes_a_scene_without_rendering() {
         "objects: 7 (6 spheres, 1 meshes with 1920 triangles",
         "materials: 7",
         "lights: 2",
+        "  light0: ",
+        "environment: off",
         "bounds:",
         "warnings: 0",
     ] {

@@ -76,7 +76,16 @@ fn every_format_takes_the_environment_from_the_command_line() {
             ok(lumis(d)
                 .arg(file)
                 .args(["-o", "o.exr", "--float", "--quiet"])
-                .args(["--width", "8", "--height", "6", "--max-depth", "0", "--exposure", "0"])
+                .args([
+                    "--width",
+                    "8",
+                    "--height",
+                    "6",
+                    "--max-depth",
+                    "0",
+                    "--exposure",
+                    "0",
+                ])
                 .args(&how)
                 .output()
                 .unwrap());
