@@ -19,6 +19,8 @@ pub struct SceneBuilder {
     material_names: Vec<String>,
     lights: Vec<Light>,
     light_names: Vec<String>,
+    /// How many of the last lights are a model file's automatic rig.
+    rig_lights: usize,
     settings: Settings,
     warnings: Vec<String>,
     /// The first element outside [`limits`], reported by [`SceneBuilder::build`]: loaders
@@ -44,6 +46,7 @@ impl SceneBuilder {
             material_names: Vec::new(),
             lights: Vec::new(),
             light_names: Vec::new(),
+            rig_lights: 0,
             settings: Settings::default(),
             warnings: Vec::new(),
             rejected: None,
@@ -84,6 +87,15 @@ impl SceneBuilder {
     pub fn add_light(&mut self, l: Light) {
         let name = format!("light{}", self.lights.len());
         self.add_named_light(&name, l);
+    }
+
+    /// Adds a light of the automatic rig a model file without lights gets (`rig_key`,
+    /// `rig_fill`, ...): the lights an environment replaces ([`Scene::set_environment`]).
+    /// They must be the last lights added.
+    pub fn add_rig_light(&mut self, l: Light) {
+        let name = format!("rig{}", self.rig_lights);
+        self.add_named_light(&name, l);
+        self.rig_lights += 1;
     }
 
     /// Adds a light with the name the scene file gives it (what its per-light pass is
@@ -176,6 +188,7 @@ impl SceneBuilder {
             material_names: self.material_names,
             lights: self.lights,
             light_names: self.light_names,
+            rig_lights: self.rig_lights,
             camera,
             settings: self.settings,
             warnings: self.warnings,

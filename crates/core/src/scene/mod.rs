@@ -56,6 +56,9 @@ pub struct Scene {
     lights: Vec<Light>,
     /// Light names, by light index (the scene file's, else `light<index>`).
     light_names: Vec<String>,
+    /// How many of the last lights (before an environment's sun) are a model file's
+    /// automatic rig, which an environment replaces.
+    rig_lights: usize,
     camera: Camera,
     settings: Settings,
     warnings: Vec<String>,
@@ -134,12 +137,20 @@ impl Scene {
     }
 
     /// Sets (or removes) the environment. Its sun, when it has one, becomes the last light,
-    /// named `sun`; a previous environment's sun light goes with it.
+    /// named `sun`; a previous environment's sun light goes with it. An environment replaces
+    /// the automatic light rig of a model file without lights, as glTF viewers light such a
+    /// model by its environment alone (the file's own lights stay).
     pub fn set_environment(&mut self, environment: Option<Arc<Environment>>) {
         if self.sun_light {
             self.lights.pop();
             self.light_names.pop();
             self.sun_light = false;
+        }
+        if environment.is_some() && self.rig_lights > 0 {
+            let keep = self.lights.len() - self.rig_lights;
+            self.lights.truncate(keep);
+            self.light_names.truncate(keep);
+            self.rig_lights = 0;
         }
         if let Some(sun) = environment.as_ref().and_then(|e| e.sun_light()) {
             let name = builder::unique_light_name(&self.light_names, "sun");

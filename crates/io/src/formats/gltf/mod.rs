@@ -224,7 +224,7 @@ fn load_inner(
     };
     if !file_has_lights && !bounds.is_empty() {
         for light in default_rig(bounds, &camera) {
-            b.add_light(light);
+            b.add_rig_light(light);
         }
     }
     for w in warnings {

@@ -352,7 +352,7 @@ pub fn load_obj_scene(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
     let (w, h) = (b.settings_mut().width, b.settings_mut().height);
     let camera = framing_camera(bounds, w, h);
     for light in default_rig(bounds, &camera) {
-        b.add_light(light);
+        b.add_rig_light(light);
     }
     b.build(camera)
         .map_err(|e| SceneError::invalid(path, e.element, e.message))
