@@ -10,7 +10,7 @@ here="$(cd "$(dirname "$0")" && pwd)"
 repo="$(dirname "$here")"
 out="${1:-$here/corpus}"
 paper="${LUMIS_PAPER_SCENES:-$repo/../shared/paper-scenes}"
-mkdir -p "$out"/{toml,obj,mtl,gltf,glb,scn,m,npy,queries}
+mkdir -p "$out"/{toml,obj,mtl,gltf,glb,scn,m,npy,queries,hdr,exr}
 
 python3 - "$repo" "$out" "$paper" <<'PY'
 import base64, json, os, random, re, struct, sys
@@ -228,7 +228,47 @@ put("queries", "axis_rays.bin", scene(quad + [("t", 0, 1, 2), ("s", 2, 30)], qua
     bytes([2]) + i8(2, 2, 8) + bytes([2, 2 | 8 | 16, 0, 12, 0]) + TMIN0_TMAXINF,
     bytes([2]) + i8(0, 0, 0) + bytes([2, 1 | 32, 0, 13, 0]) + bytes([4, 0]),
 ))
+
+# Environment maps: flat RGBE (the form tools/make_sky.py writes), the old #?RGBE signature, a
+# run-length encoded scanline, and uncompressed scanline EXRs (float RGB, half Y) by hand.
+def rgbe_file(w, h, sig=b"#?RADIANCE"):
+    px = bytes((i * 37 + j * 11) % 256 for j in range(h) for i in range(w * 4))
+    return sig + b"\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w) + px
+put("hdr", "flat_4x2.hdr", rgbe_file(4, 2))
+put("hdr", "rgbe_sig_8x4.hdr", rgbe_file(8, 4, b"#?RGBE"))
+rle = bytes([2, 2, 0, 16]) + b"".join(bytes([128 + 16, 100 + c]) for c in range(4))
+put("hdr", "rle_16x1.hdr", b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 16\n" + rle)
+
+
+def exr_file(w, h, channels):
+    """A single-part scanline EXR, no compression; `channels`: [(name, pixel type)]."""
+    def attr(name, kind, value):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
+    chlist = b"".join(n.encode() + b"\0" + struct.pack("<iB3xii", t, 0, 1, 1)
+                      for n, t in channels) + b"\0"
+    box = struct.pack("<iiii", 0, 0, w - 1, h - 1)
+    head = (struct.pack("<ii", 20000630, 2) + attr("channels", "chlist", chlist)
+            + attr("compression", "compression", b"\0") + attr("dataWindow", "box2i", box)
+            + attr("displayWindow", "box2i", box) + attr("lineOrder", "lineOrder", b"\0")
+            + attr("pixelAspectRatio", "float", struct.pack("<f", 1.0))
+            + attr("screenWindowCenter", "v2f", struct.pack("<ff", 0, 0))
+            + attr("screenWindowWidth", "float", struct.pack("<f", 1.0)) + b"\0")
+    lines = []
+    for y in range(h):
+        data = b""
+        for n, t in channels:  # channels in name order, each a run of the line's samples
+            for x in range(w):
+                v = 0.25 + 0.5 * ((x + y + len(n)) % 3)
+                data += struct.pack("<e", v) if t == 1 else struct.pack("<f", v)
+        lines.append(struct.pack("<ii", y, len(data)) + data)
+    offsets, at = [], len(head) + 8 * h
+    for line in lines:
+        offsets.append(at)
+        at += len(line)
+    return head + b"".join(struct.pack("<Q", o) for o in offsets) + b"".join(lines)
+put("exr", "rgb_float_4x2.exr", exr_file(4, 2, [("B", 2), ("G", 2), ("R", 2)]))
+put("exr", "y_half_2x2.exr", exr_file(2, 2, [("Y", 1)]))
 PY
-for t in toml obj mtl gltf glb scn m npy queries; do
+for t in toml obj mtl gltf glb scn m npy queries hdr exr; do
     printf '%s: %s seeds\n' "$t" "$(ls "$out/$t" | wc -l)"
 done

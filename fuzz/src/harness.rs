@@ -12,8 +12,8 @@
 use std::path::Path;
 
 /// The fuzz targets, by name (also the folders of tests/fuzz_regressions/).
-pub const TARGETS: [&str; 9] = [
-    "toml", "obj", "mtl", "gltf", "glb", "scn", "m", "npy", "queries",
+pub const TARGETS: [&str; 11] = [
+    "toml", "obj", "mtl", "gltf", "glb", "scn", "m", "npy", "queries", "hdr", "exr",
 ];
 
 /// Feeds `data` to `target` inside `dir`. Any `Ok` or `Err` of the loader is fine; only a
@@ -68,6 +68,15 @@ pub fn run_in(dir: &Path, target: &str, data: &[u8]) {
         }
         "npy" => {
             let _ = lumis_io::rays::read_rays(&put("rays.npy", data));
+        }
+        // Environment maps, through the scene table that names them (as `--env` does).
+        "hdr" | "exr" => {
+            put(&format!("sky.{target}"), data);
+            let scene = format!(
+                "[environment]\nfile = \"sky.{target}\"\n[[sphere]]\ncenter = [0, 0, 0]\n\
+                 radius = 1\n"
+            );
+            load(&put("scene.toml", scene.as_bytes()));
         }
         // Ray queries on a decoded scene (fuzz/src/queries/): no files, `dir` unused.
         "queries" => super::queries::run(data),

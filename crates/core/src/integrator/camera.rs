@@ -59,6 +59,7 @@ impl Whitted<'_> {
     }
 
     /// The sample of camera ray `ray` that found `hit`.
+    #[inline(always)]
     fn camera_sample(
         &self,
         ray: &Ray,
@@ -71,10 +72,12 @@ impl Whitted<'_> {
                 self.catcher_sample(ray, &hit, counts, split)
             }
             Some(hit) => CameraSample {
-                radiance: if self.all {
-                    self.shade::<true>(ray, &hit, 0, 1.0, counts, split)
-                } else {
-                    self.shade::<false>(ray, &hit, 0, 1.0, counts, split)
+                // The split is a separate instance: the common path carries none of its tests.
+                radiance: match (self.all, split.is_some()) {
+                    (true, true) => self.shade::<true, true>(ray, &hit, 0, 1.0, counts, split),
+                    (true, false) => self.shade::<true, false>(ray, &hit, 0, 1.0, counts, None),
+                    (false, true) => self.shade::<false, true>(ray, &hit, 0, 1.0, counts, split),
+                    (false, false) => self.shade::<false, false>(ray, &hit, 0, 1.0, counts, None),
                 },
                 alpha: 1.0,
                 object: Some(hit.object),

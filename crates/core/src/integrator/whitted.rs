@@ -5,7 +5,9 @@
 //! The shading code is one generic function over `ALL`: with `ALL = true` (the
 //! `--effects all` reference) every skip test is compiled out and every ray kind is traced;
 //! with `ALL = false` a ray is skipped only where the reference multiplies its result by an
-//! exact zero, so both produce the same bits.
+//! exact zero, so both produce the same bits. It is generic over `SPLIT` too: the camera
+//! ray's first hit, when the light-path passes are asked for, also writes its terms into a
+//! [`Split`] (`paths.rs`); every other instance has no trace of those tests.
 
 use super::RayCounts;
 use super::paths::Split;
@@ -81,6 +83,7 @@ impl<'a> Whitted<'a> {
     /// Radiance along a secondary ray at bounce `depth`, whose radiance enters the pixel
     /// multiplied by `weight`. Shadow catchers are invisible to it (their shadows are for
     /// the plate, which reflections do not show): it goes on through them.
+    #[inline]
     fn trace<const ALL: bool>(
         &self,
         ray: &Ray,
@@ -88,13 +91,37 @@ impl<'a> Whitted<'a> {
         weight: f32,
         counts: &mut RayCounts,
     ) -> Vec3 {
-        let mut ray = *ray;
-        for _ in 0..=MAX_CATCHER_CROSSINGS {
+        match self.world.intersect(ray, &mut counts.traversal) {
+            Some(hit) if self.catchers && self.is_catcher(&hit) => {
+                self.trace_past_catchers::<ALL>(ray, &hit, depth, weight, counts)
+            }
+            Some(hit) => self.shade::<ALL, false>(ray, &hit, depth, weight, counts, None),
+            None => self.background(ray.dir),
+        }
+    }
+
+    /// [`Whitted::trace`] of `ray` from beyond the catcher it hit at `hit`, and past any
+    /// further ones (at most [`MAX_CATCHER_CROSSINGS`]). Out of line: scenes without catchers
+    /// never come here, and the common path stays small.
+    #[cold]
+    #[inline(never)]
+    fn trace_past_catchers<const ALL: bool>(
+        &self,
+        ray: &Ray,
+        hit: &Interaction,
+        depth: u32,
+        weight: f32,
+        counts: &mut RayCounts,
+    ) -> Vec3 {
+        let mut ray = Ray::new(hit.surface.spawn_origin(ray.dir, self.offset), ray.dir);
+        for _ in 0..MAX_CATCHER_CROSSINGS {
             match self.world.intersect(&ray, &mut counts.traversal) {
-                Some(hit) if self.catchers && self.is_catcher(&hit) => {
+                Some(hit) if self.is_catcher(&hit) => {
                     ray = Ray::new(hit.surface.spawn_origin(ray.dir, self.offset), ray.dir);
                 }
-                Some(hit) => return self.shade::<ALL>(&ray, &hit, depth, weight, counts, None),
+                Some(hit) => {
+                    return self.shade::<ALL, false>(&ray, &hit, depth, weight, counts, None);
+                }
                 None => return self.background(ray.dir),
             }
         }
@@ -129,7 +156,7 @@ impl<'a> Whitted<'a> {
 
     /// Radiance leaving `hit` back along `ray`; `weight` is the product of the reflection and
     /// transmission factors that brought the camera ray here.
-    pub(super) fn shade<const ALL: bool>(
+    pub(super) fn shade<const ALL: bool, const SPLIT: bool>(
         &self,
         ray: &Ray,
         hit: &Interaction,
@@ -169,14 +196,14 @@ impl<'a> Whitted<'a> {
         let mut l = Vec3::ZERO;
         if ALL || sh.traits.emits {
             l += m.emission;
-            if let Some(sp) = split.as_deref_mut() {
+            if SPLIT && let Some(sp) = split.as_deref_mut() {
                 sp.paths.emission = m.emission;
             }
         }
         let ambient = self.ambient(ns) * kd * occlusion;
         l += ambient;
-        l += self.direct::<ALL>(&sh, kd, s, ng, ns, wo, counts, split.as_deref_mut());
-        if let Some(sp) = split.as_deref_mut() {
+        l += self.direct::<ALL, SPLIT>(&sh, kd, s, ng, ns, wo, counts, split.as_deref_mut());
+        if SPLIT && let Some(sp) = split.as_deref_mut() {
             sp.paths.ambient = ambient;
         }
         if depth >= self.max_depth {
@@ -202,7 +229,7 @@ impl<'a> Whitted<'a> {
                         let r = Ray::new(s.spawn_origin(t, self.offset), t);
                         let through = w * self.trace::<ALL>(&r, depth + 1, weight * w, counts);
                         l += through;
-                        if let Some(sp) = split.as_deref_mut() {
+                        if SPLIT && let Some(sp) = split.as_deref_mut() {
                             sp.paths.refraction = through;
                         }
                     }
@@ -224,7 +251,7 @@ impl<'a> Whitted<'a> {
             let mirrored =
                 mirror_weight * self.trace::<ALL>(&r, depth + 1, weight * mirror_weight, counts);
             l += mirrored;
-            if let Some(sp) = split {
+            if SPLIT && let Some(sp) = split {
                 sp.paths.reflection = mirrored;
             }
         }
@@ -234,7 +261,7 @@ impl<'a> Whitted<'a> {
     /// Lambert + Phong from every light that a shadow ray finds unoccluded. A shadow ray is
     /// cast only when the light's unshadowed contribution is not exactly zero.
     #[allow(clippy::too_many_arguments)]
-    fn direct<const ALL: bool>(
+    fn direct<const ALL: bool, const SPLIT: bool>(
         &self,
         sh: &Shading,
         kd: Vec3,
@@ -293,7 +320,7 @@ impl<'a> Whitted<'a> {
                 .occluded(&Ray::segment(origin, ls.wi, t_max), &mut counts.traversal)
             {
                 l += c;
-                if let Some(sp) = split.as_deref_mut() {
+                if SPLIT && let Some(sp) = split.as_deref_mut() {
                     let cos = ns.dot(ls.wi);
                     sp.paths.diffuse += kd * std::f32::consts::FRAC_1_PI * ls.irradiance * cos;
                     if ALL || sh.traits.phong {
@@ -308,6 +335,7 @@ impl<'a> Whitted<'a> {
 
     /// What light sample `ls` adds at a point if nothing blocks it. The Whitted BRDF reflects
     /// only: light from behind the shading normal or below the geometric surface adds nothing.
+    #[inline(always)]
     fn unshadowed<const ALL: bool>(
         &self,
         sh: &Shading,
