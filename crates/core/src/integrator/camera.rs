@@ -19,9 +19,6 @@ pub struct CameraSample {
     pub alpha: f32,
     /// The object the ray hit first (what Cryptomatte names the sample by); `None` on a miss.
     pub object: Option<u32>,
-    /// What a plate behind a shadow catcher is multiplied by (per channel: lit / unshadowed
-    /// irradiance); 1 wherever the ray met no catcher.
-    pub shadow: Vec3,
 }
 
 impl Whitted<'_> {
@@ -81,7 +78,6 @@ impl Whitted<'_> {
                 },
                 alpha: 1.0,
                 object: Some(hit.object),
-                shadow: Vec3::ONE,
             },
             None => {
                 let (radiance, alpha) = if self.transparent {
@@ -97,7 +93,6 @@ impl Whitted<'_> {
                     radiance,
                     alpha,
                     object: None,
-                    shadow: Vec3::ONE,
                 }
             }
         }

@@ -40,12 +40,12 @@ impl Whitted<'_> {
         };
         if let Some(s) = split {
             s.paths.background = radiance;
+            s.shadow = factor;
         }
         CameraSample {
             radiance,
             alpha,
             object: Some(hit.object),
-            shadow: factor,
         }
     }
 

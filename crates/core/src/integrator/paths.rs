@@ -77,6 +77,9 @@ pub struct Split<'a> {
     pub paths: LightPaths,
     /// Per light, in scene order.
     pub lights: &'a mut [Vec3],
+    /// What a plate behind a shadow catcher is multiplied by (per channel: lit over
+    /// unshadowed irradiance); 1 wherever the camera ray met no catcher.
+    pub shadow: Vec3,
 }
 
 impl<'a> Split<'a> {
@@ -86,6 +89,7 @@ impl<'a> Split<'a> {
         Self {
             paths: LightPaths::default(),
             lights,
+            shadow: Vec3::ONE,
         }
     }
 }

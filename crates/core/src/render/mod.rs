@@ -337,7 +337,7 @@ impl Pass<'_> {
                 let mut split = Split::new(&mut per_light);
                 let sample = self.integrator.camera_ray_split(ray, counts, &mut split);
                 add(&sample, samples);
-                self.layout.accumulate(&split, &sample, passes);
+                self.layout.accumulate(&split, passes);
             }
         } else {
             let mut traced = [CameraSample::default(); PACKET];
@@ -346,9 +346,6 @@ impl Pass<'_> {
                 self.integrator.camera_rays(packet, counts, traced);
                 for sample in traced.iter() {
                     add(sample, samples);
-                    if self.layout.shadow {
-                        *passes.last_mut().expect("the shadow pass") += sample.shadow;
-                    }
                 }
             }
         }

@@ -2,7 +2,7 @@
 //! lands in them.
 
 use crate::film::SHADOW_PASS;
-use crate::integrator::{CameraSample, LightPaths, Split};
+use crate::integrator::{LightPaths, Split};
 use crate::math::Vec3;
 use crate::scene::Scene;
 
@@ -20,7 +20,7 @@ pub struct PassRequest {
 pub(super) struct PassLayout {
     light_paths: bool,
     lights: Vec<String>,
-    pub(super) shadow: bool,
+    shadow: bool,
 }
 
 impl PassLayout {
@@ -43,13 +43,14 @@ impl PassLayout {
             + usize::from(self.shadow)
     }
 
-    /// Whether any sample must be split by light path or light.
+    /// Whether the samples are traced one by one into a [`Split`] (any pass at all: the
+    /// shadow pass comes from the split too, so the common path carries none of it).
     pub(super) fn splits(&self) -> bool {
-        self.light_paths || !self.lights.is_empty()
+        self.light_paths || !self.lights.is_empty() || self.shadow
     }
 
     /// Adds one split sample's passes to a pixel's sums `out` (film order).
-    pub(super) fn accumulate(&self, split: &Split, sample: &CameraSample, out: &mut [Vec3]) {
+    pub(super) fn accumulate(&self, split: &Split, out: &mut [Vec3]) {
         let mut at = 0;
         if self.light_paths {
             for (o, v) in out.iter_mut().zip(split.paths.values()) {
@@ -64,7 +65,7 @@ impl PassLayout {
             at += self.lights.len();
         }
         if self.shadow {
-            out[at] += sample.shadow;
+            out[at] += split.shadow;
         }
     }
 
