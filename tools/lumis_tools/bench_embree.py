@@ -98,6 +98,7 @@ from .embree import EmbreeScene  # noqa: E402
 from .geometry import load_geometry  # noqa: E402
 from .machine import cpu_info  # noqa: E402
 from .rays import bench_all_miss, bench_camera, bench_incoherent  # noqa: E402
+from .sizes import wxh  # noqa: E402
 
 T_RTOL = 1e-4
 
@@ -140,12 +141,7 @@ def parse_args(argv=None):
         p.error("--runs must be at least 1")
     if args.rays < 1:
         p.error("--rays must be at least 1")
-    try:
-        w, h = (int(x) for x in args.camera.lower().split("x"))
-        if w < 1 or h < 1:
-            raise ValueError
-    except ValueError:
-        p.error(f"--camera: expected WxH such as 512x384, got {args.camera!r}")
+    w, h = wxh(p, "--camera", args.camera, "512x384")
     args.camera_size = (w, h)
     if args.subdivide < 0:
         p.error("--subdivide must be >= 0")

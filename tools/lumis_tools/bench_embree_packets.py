@@ -110,6 +110,7 @@ from .bench_embree import (  # noqa: E402
 from .bench_instructions import callgrind  # noqa: E402
 from .embree import EmbreeScene  # noqa: E402
 from .embree_native import RECORD, Helper, NativeEmbree, packet_lanes  # noqa: E402
+from .sizes import wxh  # noqa: E402
 
 ENGINES = ("embree-1", "embree-8", "embree-8c", "embreex-1", "lumis", "lumis-8")
 PACKETS = ("embree-8", "embree-8c")
@@ -151,12 +152,7 @@ def parse_args(argv=None):
     args = p.parse_args(argv)
     if args.runs < 1:
         p.error("--runs must be at least 1")
-    try:
-        w, h = (int(x) for x in args.camera.lower().split("x"))
-        if w < 1 or h < 1:
-            raise ValueError
-    except ValueError:
-        p.error(f"--camera: expected WxH such as 512x384, got {args.camera!r}")
+    w, h = wxh(p, "--camera", args.camera, "512x384")
     args.camera_size = (w, h)
     if args.subdivide < 0:
         p.error("--subdivide must be >= 0")

@@ -124,6 +124,7 @@ from . import lumis as lumis_run
 from .machine import cpu_info
 from .mitsuba_scene import DEFAULT_SCALE, mitsuba_scene_dict, prepare_scene
 from .rgb_images import agreement, read_exr_rgb, write_exr_rgb
+from .sizes import wxh
 
 DEFAULT_MODEL = lumis_run.REPO.parent / "shared" / "paper-scenes" / "models" / "bunny.orig.m"
 VARIANTS = ("scalar_rgb", "llvm_ad_rgb")
@@ -169,12 +170,7 @@ def parse_args(argv=None):
     p.add_argument("--worker", metavar="VARIANT", help=argparse.SUPPRESS)
     p.add_argument("--scene-dir", type=Path, help=argparse.SUPPRESS)
     args = p.parse_args(argv)
-    try:
-        w, h = (int(x) for x in args.size.lower().split("x"))
-        if w < 1 or h < 1:
-            raise ValueError
-    except ValueError:
-        p.error(f"--size: expected WxH such as 1280x720, got {args.size!r}")
+    w, h = wxh(p, "--size", args.size, "1280x720")
     args.width, args.height = w, h
     if args.spp < 1:
         p.error("--spp must be at least 1")

@@ -64,6 +64,7 @@ from . import exitcodes
 from . import lumis as lumis_run
 from . import paper
 from .machine import cpu_info, cpu_summary
+from .sizes import wxh
 
 TARGET_TOTAL = 20.0
 TARGET_EACH = 5.0
@@ -126,12 +127,7 @@ def parse_args(argv=None):
         a.scenes = names_list(a.scenes, paper.TABLE_I, "--scenes")
     except argparse.ArgumentTypeError as e:
         p.error(str(e))
-    try:
-        a.width, a.height = (int(x) for x in a.size.lower().split("x"))
-        if a.width < 1 or a.height < 1:
-            raise ValueError
-    except ValueError:
-        p.error(f"--size: expected WxH such as 480x270, got {a.size!r}")
+    a.width, a.height = wxh(p, "--size", a.size, "480x270")
     if a.rounds < 1 or a.spp < 1 or a.threads < 1:
         p.error("--rounds, --spp and --threads must be at least 1")
     if a.diff_variant is None:

@@ -71,6 +71,7 @@ from pathlib import Path
 
 from . import exitcodes
 from . import lumis as lumis_run
+from .sizes import wxh
 
 
 def parse_args(argv=None):
@@ -93,12 +94,7 @@ def parse_args(argv=None):
     p.add_argument("--json", type=Path, metavar="PATH", help="also write every number as JSON")
     lumis_run.add_argument(p)
     args = p.parse_args(argv)
-    try:
-        args.width, args.height = (int(x) for x in args.size.lower().split("x"))
-        if args.width < 1 or args.height < 1:
-            raise ValueError
-    except ValueError:
-        p.error(f"--size: expected WxH such as 96x96, got {args.size!r}")
+    args.width, args.height = wxh(p, "--size", args.size, "96x96")
     if args.spp < 1:
         p.error("--spp must be at least 1")
     return args

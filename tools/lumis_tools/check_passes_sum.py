@@ -46,6 +46,7 @@ from pathlib import Path
 
 from . import REPO, TOOLS, exitcodes
 from . import lumis as lumis_run
+from .sizes import wxh
 
 SCENE = TOOLS / "scenes" / "glass_mirror.toml"
 DEFAULT_SCENE = REPO / "scenes" / "default.toml"  # what `lumis render` without a scene renders
@@ -67,12 +68,7 @@ def parse_args(argv=None):
                    help="write the test renders (and the scene, sky.hdr) here")
     lumis_run.add_argument(p)
     args = p.parse_args(argv)
-    try:
-        args.width, args.height = (int(x) for x in args.size.lower().split("x"))
-        if args.width < 1 or args.height < 1:
-            raise ValueError
-    except ValueError:
-        p.error(f"--size: expected WxH such as 96x72, got {args.size!r}")
+    args.width, args.height = wxh(p, "--size", args.size, "96x72")
     if args.spp < 1:
         p.error("--spp must be at least 1")
     return args
