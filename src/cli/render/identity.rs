@@ -21,7 +21,7 @@ impl RenderArgs {
         settings: &Settings,
         exposure: Option<f32>,
     ) -> Result<RenderIdentity> {
-        let scene_hash = lumis_io::farm::scene_hash(inputs, &self.load_options())
+        let scene_hash = lumis_io::farm::scene_hash(inputs, &self.load_options()?)
             .context("hashing the scene's files for the EXR header")?;
         Ok(RenderIdentity {
             scene_hash,
@@ -30,21 +30,22 @@ impl RenderArgs {
         })
     }
 
-    /// Everything besides the files that decides what is loaded.
-    fn load_options(&self) -> String {
+    /// Everything besides the files that decides what is loaded (the `--env` flags among the
+    /// defines they stand for).
+    fn load_options(&self) -> Result<String> {
         let source = if self.scene.is_some() {
             "file"
         } else {
             "the built-in default scene"
         };
-        format!(
+        Ok(format!(
             "source: {source}\ndefines: {:?}\ngltf scene: {:?}\ncamera: {:?}\nauto camera: {}\nup: {:?}\n",
-            self.overrides.defines(),
+            self.defines()?,
             self.gltf_scene,
             self.camera,
             self.auto_camera,
             self.up,
-        )
+        ))
     }
 
     /// The settings that change the pixels, one `key: value` per line.
@@ -64,6 +65,7 @@ impl RenderArgs {
         let _ = writeln!(s, "z miss: {}", self.window.z_miss);
         let _ = writeln!(s, "float rgba: {}", self.float);
         let _ = writeln!(s, "aov: {:?}", self.passes.aov_layers());
+        let _ = writeln!(s, "passes: {:?}", self.passes.pass_request(true));
         let _ = writeln!(s, "cryptomatte levels: {cryptomatte:?}");
         let _ = writeln!(s, "layout: {:?}", self.passes.layout());
         let _ = write!(s, "transparent: {}", self.passes.transparent());

@@ -122,18 +122,20 @@ pub struct RenderArgs {
     frame: FrameArgs,
 }
 
+impl RenderArgs {
+    /// The `-D` overrides, then the `--env` flags as the `-D environment.*` they stand for.
+    fn defines(&self) -> Result<Vec<lumis_io::formats::Override>> {
+        let mut defines = self.overrides.defines().to_vec();
+        defines.extend(self.environment.overrides()?);
+        Ok(defines)
+    }
+}
+
 /// Loads, overrides the settings from the flags, builds, renders, exposes and writes.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let mut times = PhaseTimes::default();
     let t = Instant::now();
-    // The --env flags stand for -D environment.* after the command line's own -D.
-    let defines: Vec<_> = args
-        .overrides
-        .defines()
-        .iter()
-        .cloned()
-        .chain(args.environment.overrides()?)
-        .collect();
+    let defines = args.defines()?;
     let defines = defines.as_slice();
     // Every file the load reads, so that no output can overwrite one of them.
     let (scene, inputs) = record_inputs(|| match &args.scene {

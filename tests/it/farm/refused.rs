@@ -26,7 +26,11 @@ fn tiles_and_a_foreign_one(dir: &Path, extra: &[&str]) -> (Vec<PathBuf>, PathBuf
 fn a_tile_of_another_render_is_named() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
+    let sky = super::common::files::root().join("assets/sky.hdr");
+    std::fs::copy(sky, d.join("sky.hdr")).unwrap();
     for (extra, what) in [
+        (&["--env", "sky.hdr"][..], "the scene"),
+        (&["--aov", "lightpaths"][..], "settings"),
         (&["--seed", "3"][..], "the seed"),
         (&["--spp", "3"][..], "spp: 3"),
         (&["-D", "materials.glass.ior=1.4"][..], "the scene"),
