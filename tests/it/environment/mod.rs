@@ -6,6 +6,7 @@ mod bad_files;
 mod catcher;
 mod escape;
 mod passes;
+mod sun;
 
 use std::path::Path;
 

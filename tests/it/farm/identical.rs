@@ -55,6 +55,26 @@ fn band_aligned_split_with_every_pass() {
     assert_identical(dir.path(), "passes", &[3, 7], &args);
 }
 
+/// An environment with its sun taken out as a light, and the light-path passes.
+#[test]
+fn an_environment_its_sun_and_the_passes() {
+    let dir = tempfile::tempdir().unwrap();
+    let sky = super::common::files::root().join("assets/sky.hdr");
+    std::fs::copy(sky, dir.path().join("sky.hdr")).unwrap();
+    let args = [
+        "--width",
+        "24",
+        "--height",
+        "40",
+        "--env",
+        "sky.hdr",
+        "--env-sun",
+        "--aov",
+        "lightpaths,lights",
+    ];
+    assert_identical(dir.path(), "env", &[3], &args);
+}
+
 /// Float RGBA, Blender's channel names, a finite miss depth and a fixed exposure.
 #[test]
 fn float_blender_layout_and_fixed_exposure() {
