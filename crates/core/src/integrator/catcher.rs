@@ -73,14 +73,7 @@ impl Whitted<'_> {
             }
             let e = ls.irradiance * cos;
             all += e;
-            let t_max = if ls.distance.is_finite() {
-                ls.distance * (1.0 - 1e-4)
-            } else {
-                f32::INFINITY
-            };
-            counts.shadow += 1;
-            let shadow_ray = Ray::segment(s.spawn_origin(ls.wi, self.offset), ls.wi, t_max);
-            if !self.world.occluded(&shadow_ray, &mut counts.traversal) {
+            if self.sees_light(s, &ls, counts) {
                 lit += e;
             }
         }

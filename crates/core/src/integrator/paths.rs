@@ -62,11 +62,6 @@ impl LightPaths {
             self.background,
         ]
     }
-
-    /// Their sum: the beauty, up to float rounding (module docs).
-    pub fn sum(&self) -> Vec3 {
-        self.values().iter().copied().sum()
-    }
 }
 
 /// Where [`super::Whitted`] writes the split of one camera sample: the light paths and one

@@ -307,18 +307,7 @@ impl<'a> Whitted<'a> {
                 // (cos = 0), so even the reference loses nothing by not tracing it.
                 continue;
             }
-            let origin = s.spawn_origin(ls.wi, self.offset);
-            // Stop just short of a point light so the light's own position never counts as a blocker.
-            let t_max = if ls.distance.is_finite() {
-                ls.distance * (1.0 - 1e-4)
-            } else {
-                f32::INFINITY
-            };
-            counts.shadow += 1;
-            if !self
-                .world
-                .occluded(&Ray::segment(origin, ls.wi, t_max), &mut counts.traversal)
-            {
+            if self.sees_light(s, &ls, counts) {
                 l += c;
                 if SPLIT && let Some(sp) = split.as_deref_mut() {
                     let cos = ns.dot(ls.wi);
@@ -331,6 +320,26 @@ impl<'a> Whitted<'a> {
             }
         }
         l
+    }
+
+    /// Whether the light of sample `ls` reaches surface point `s`: one shadow ray, counted.
+    /// It stops just short of a point light, so the light's own position never counts as a
+    /// blocker. `ls.wi` must not be zero (a light at the point has no direction to trace).
+    #[inline]
+    pub(super) fn sees_light(
+        &self,
+        s: &SurfacePoint,
+        ls: &LightSample,
+        counts: &mut RayCounts,
+    ) -> bool {
+        let t_max = if ls.distance.is_finite() {
+            ls.distance * (1.0 - 1e-4)
+        } else {
+            f32::INFINITY
+        };
+        counts.shadow += 1;
+        let ray = Ray::segment(s.spawn_origin(ls.wi, self.offset), ls.wi, t_max);
+        !self.world.occluded(&ray, &mut counts.traversal)
     }
 
     /// What light sample `ls` adds at a point if nothing blocks it. The Whitted BRDF reflects
