@@ -25,7 +25,12 @@ fn verdict(
     let e = Expect::new(&frame, &s.prims);
     let hit = hit.map(|(prim, t)| Hit {
         prim,
-        hit: PrimHit { t, u: 0.0, v: 0.0 },
+        hit: PrimHit {
+            t,
+            u: 0.0,
+            v: 0.0,
+            inner: 0,
+        },
     });
     e.check(&frame, &s.prims, hit.as_ref(), occluded)
 }

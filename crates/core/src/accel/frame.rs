@@ -82,6 +82,15 @@ impl Framing {
         }
     }
 
+    /// The `t` on [`Framing::ray`] of a hit at the caller's `t` (the inverse of
+    /// [`Framing::caller_t`], to within its rounding): where a surface is computed again.
+    pub fn local_t(&self, caller: f32) -> f32 {
+        match self {
+            Framing::Moved(m) => (caller as f64 - m.shift.to_f64()) as f32,
+            _ => caller,
+        }
+    }
+
     /// The caller's `t` of a hit at `t` on [`Framing::ray`] (see [`Moved::world_t`]).
     #[inline(always)]
     pub fn caller_t(&self, t: f32) -> Option<f32> {

@@ -241,7 +241,7 @@ impl Accel {
             .iter()
             .map(|p| match p {
                 Primitive::Triangle { .. } => sah::SHARED_SLOTS,
-                Primitive::Sphere { .. } => sah::ALONE_SLOTS,
+                Primitive::Sphere { .. } | Primitive::Instance { .. } => sah::ALONE_SLOTS,
             })
             .collect();
         let mut accel = Self::build_priced(kind, &geometry.prim_bounds(), &slots, opts);

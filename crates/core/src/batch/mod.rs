@@ -122,12 +122,17 @@ pub fn trace_all_hits<B: RayBatch + ?Sized>(world: &World, rays: &B) -> Vec<AllH
                     ray: i,
                     hit: HitRecord {
                         t: h.t,
-                        prim: Some(h.prim),
+                        prim: Some(if h.instance.is_some() {
+                            h.inner
+                        } else {
+                            h.prim
+                        }),
                         object: Some(h.object),
                         u: h.u,
                         v: h.v,
                         normal: h.normal,
                         kind: Some(h.primitive.into()),
+                        instance: h.instance,
                     },
                     graze: h.graze,
                 }));
@@ -279,18 +284,21 @@ fn nearest_record(world: &World, traced: Option<Traced>) -> HitRecord {
     };
     // The normal on the ray the hit was found on (a far ray's was moved near the scene).
     let Hit { prim, hit } = traced.hit;
+    let instance = g.has_instances().then(|| g.instance_of(prim)).flatten();
     HitRecord {
         t: traced.t,
-        prim: Some(prim),
-        object: Some(scene.object_of(prim)),
+        // An instance's hit names the prototype's primitive, as Embree's `primID` does.
+        prim: Some(if instance.is_some() { hit.inner } else { prim }),
+        object: Some(scene.object_at(prim, hit.inner)),
         u: hit.u,
         v: hit.v,
         normal: world.geometric_normal(&traced),
         // A hit from the packed leaves is a triangle; only others read the primitive list.
         kind: Some(match traced.slot {
             Some(_) => PrimKind::Triangle,
-            None => g.prims()[prim as usize].into(),
+            None => g.leaf_primitive(prim, hit.inner).into(),
         }),
+        instance,
     }
 }
 
@@ -302,7 +310,7 @@ pub fn triangle_rows(scene: &Scene) -> Vec<[f32; TRIANGLE_COLUMNS]> {
         .iter()
         .enumerate()
         .filter_map(|(i, p)| match *p {
-            Primitive::Sphere { .. } => None,
+            Primitive::Sphere { .. } | Primitive::Instance { .. } => None,
             Primitive::Triangle { mesh, tri } => {
                 let [a, b, c] = g.meshes()[mesh as usize].corners(tri);
                 Some([i as f32, a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z])
@@ -323,7 +331,7 @@ pub fn sphere_rows(scene: &Scene) -> Vec<[f32; SPHERE_COLUMNS]> {
                 let s = &g.spheres()[sphere as usize];
                 Some([i as f32, s.center.x, s.center.y, s.center.z, s.radius])
             }
-            Primitive::Triangle { .. } => None,
+            Primitive::Triangle { .. } | Primitive::Instance { .. } => None,
         })
         .collect()
 }

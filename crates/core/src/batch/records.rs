@@ -18,6 +18,8 @@ impl From<Primitive> for PrimKind {
         match p {
             Primitive::Sphere { .. } => Self::Sphere,
             Primitive::Triangle { .. } => Self::Triangle,
+            // Callers pass the primitive at the bottom of a hit (`Geometry::leaf_primitive`).
+            Primitive::Instance { .. } => Self::Triangle,
         }
     }
 }
@@ -40,6 +42,9 @@ pub struct HitRecord {
     pub normal: Vec3,
     /// The primitive's kind; `None` for misses and any-hit answers.
     pub kind: Option<PrimKind>,
+    /// The instance hit (the scene's instance list), when the primitive is a prototype's;
+    /// `prim` is then the prototype's primitive.
+    pub instance: Option<u32>,
 }
 
 impl HitRecord {
@@ -52,6 +57,7 @@ impl HitRecord {
         v: 0.0,
         normal: Vec3::ZERO,
         kind: None,
+        instance: None,
     };
 
     /// The `lumis hits` row: `t`, prim id, object id, `u`, `v`, normal xyz, kind; `-1` for
@@ -115,6 +121,7 @@ mod tests {
             v: 0.5,
             normal: Vec3::new(0.0, 0.0, 1.0),
             kind: Some(PrimKind::Triangle),
+            instance: None,
         };
         assert_eq!(hit.row(), [2.5, 7.0, 1.0, 0.25, 0.5, 0.0, 0.0, 1.0, 1.0]);
     }

@@ -123,7 +123,12 @@ impl Geometry {
                 let Some(first) = test(ray) else { return };
                 let contact = |t: f32, touch| Contact {
                     prim: index,
-                    hit: PrimHit { t, u: 0.0, v: 0.0 },
+                    hit: PrimHit {
+                        t,
+                        u: 0.0,
+                        v: 0.0,
+                        inner: 0,
+                    },
                     touch,
                 };
                 let census = root_census(s, ray);
@@ -142,6 +147,9 @@ impl Geometry {
                     None if census.in_range == 2 => out.push(contact(first, Touch::Crossing)),
                     None => {}
                 }
+            }
+            Primitive::Instance { instance } => {
+                self.instance_contacts(instance, index, ray, precision, out)
             }
         }
     }

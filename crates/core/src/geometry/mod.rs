@@ -8,6 +8,7 @@ mod conditioning;
 mod crossing;
 pub(crate) mod edge_bound;
 mod exact;
+mod instance;
 mod mesh;
 mod mesh_attributes;
 mod polygon;
@@ -19,6 +20,7 @@ pub(crate) mod twofloat;
 pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsilon};
 pub use crossing::{Contact, Seam, Touch};
 pub use exact::{cross_sign, orient2d, triangle_area_is_zero};
+pub use instance::{Instance, Placement, PlacementError, Prototype};
 pub use mesh::{Mesh, MeshError};
 pub use mesh_attributes::{AlphaTest, HitAttributes, MeshAttributes, SharedAlphaTest};
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
@@ -65,6 +67,8 @@ pub enum Primitive {
     Sphere { sphere: u32 },
     /// Triangle `tri` of `Geometry::meshes()[mesh]`.
     Triangle { mesh: u32, tri: u32 },
+    /// `Geometry::instances()[instance]`: a prototype placed by a transform.
+    Instance { instance: u32 },
 }
 
 /// A ray/primitive hit before shading: the distance and the barycentrics (0 for spheres).
@@ -76,6 +80,8 @@ pub struct PrimHit {
     pub u: f32,
     /// Barycentric weight of the triangle's third vertex.
     pub v: f32,
+    /// For a hit on an instance, the primitive of its prototype that was hit (0 otherwise).
+    pub inner: u32,
 }
 
 /// All shapes of a scene and the flat primitive list the accelerators index.
@@ -86,6 +92,11 @@ pub struct Geometry {
     prims: Vec<Primitive>,
     /// Some mesh has an alpha test: lets intersection skip the look-up otherwise.
     any_alpha: bool,
+    /// What instances place, and the placements.
+    prototypes: Vec<Prototype>,
+    instances: Vec<Instance>,
+    /// Some primitive is an instance: lets hit records skip the look-up otherwise.
+    any_instances: bool,
 }
 
 impl Geometry {
@@ -119,6 +130,8 @@ impl Geometry {
         std::mem::size_of_val(self.spheres.as_slice())
             + self.meshes.iter().map(Mesh::bytes).sum::<usize>()
             + std::mem::size_of_val(self.prims.as_slice())
+            + self.prototypes.iter().map(Prototype::bytes).sum::<usize>()
+            + std::mem::size_of_val(self.instances.as_slice())
     }
 
     /// The primitive list.
@@ -146,6 +159,7 @@ impl Geometry {
         match p {
             Primitive::Sphere { sphere } => self.spheres[sphere as usize].bounds(),
             Primitive::Triangle { mesh, tri } => self.meshes[mesh as usize].triangle_bounds(tri),
+            Primitive::Instance { instance } => self.instances[instance as usize].bounds,
         }
     }
 
@@ -155,7 +169,8 @@ impl Geometry {
             .spheres
             .iter()
             .fold(Aabb::EMPTY, |b, s| b.union(s.bounds()));
-        self.meshes.iter().fold(s, |b, m| b.union(m.bounds()))
+        let i = self.instances.iter().fold(s, |b, i| b.union(i.bounds));
+        self.meshes.iter().fold(i, |b, m| b.union(m.bounds()))
     }
 
     /// Intersects primitive `index` with `ray` in `(t_min, t_max]` with the default
@@ -166,6 +181,7 @@ impl Geometry {
             index,
             |s| s.intersect(ray),
             |[p0, p1, p2]| intersect_triangle(ray, wr, p0, p1, p2),
+            |i| self.intersect_instance(i, ray, Precision::Watertight),
         )
     }
 
@@ -182,6 +198,7 @@ impl Geometry {
             index,
             |s| s.intersect_fast(ray),
             |[p0, p1, p2]| intersect_triangle_fast(ray, p0, p1, p2),
+            |i| self.intersect_instance(i, ray, Precision::Fast),
         )
         .filter(|h| {
             crate::math::slab::within_box(&self.bounds_of(self.prims[index as usize]), ray, h.t)
@@ -195,21 +212,26 @@ impl Geometry {
             index,
             |s| s.intersect_double(ray),
             |[p0, p1, p2]| intersect_triangle_double(ray, p0, p1, p2),
+            |i| self.intersect_instance(i, ray, Precision::Double),
         )
     }
 
-    /// Primitive `index` through the sphere or the triangle test given.
+    /// Primitive `index` through the sphere, the triangle or the instance test given.
     #[inline(always)]
     fn intersect_by(
         &self,
         index: u32,
         sphere: impl FnOnce(&Sphere) -> Option<f32>,
         triangle: impl FnOnce([Vec3; 3]) -> Option<TriangleHit>,
+        instance: impl FnOnce(u32) -> Option<PrimHit>,
     ) -> Option<PrimHit> {
         match self.prims[index as usize] {
-            Primitive::Sphere { sphere: i } => {
-                sphere(&self.spheres[i as usize]).map(|t| PrimHit { t, u: 0.0, v: 0.0 })
-            }
+            Primitive::Sphere { sphere: i } => sphere(&self.spheres[i as usize]).map(|t| PrimHit {
+                t,
+                u: 0.0,
+                v: 0.0,
+                inner: 0,
+            }),
             Primitive::Triangle { mesh, tri } => {
                 let m = &self.meshes[mesh as usize];
                 // The alpha test is part of the one per-primitive test every accelerator
@@ -218,6 +240,8 @@ impl Geometry {
                     .filter(|h| !self.any_alpha || m.alpha_passes(tri, h.u, h.v))
                     .map(PrimHit::from)
             }
+            // Its own alpha tests and box check are inside.
+            Primitive::Instance { instance: i } => instance(i),
         }
     }
 
@@ -230,14 +254,15 @@ impl Geometry {
         }
         match self.prims[index as usize] {
             Primitive::Triangle { mesh, tri } => self.meshes[mesh as usize].alpha_passes(tri, u, v),
-            Primitive::Sphere { .. } => true,
+            Primitive::Sphere { .. } | Primitive::Instance { .. } => true,
         }
     }
 
     /// The attributes of a hit on primitive `index` whose surface is `s` (a sphere's are its
-    /// `uv` in both sets, colour 1 and no tangent).
-    pub fn hit_attributes(&self, index: u32, s: &SurfacePoint) -> HitAttributes {
+    /// `uv` in both sets, colour 1 and no tangent); `inner` is [`PrimHit::inner`].
+    pub fn hit_attributes(&self, index: u32, inner: u32, s: &SurfacePoint) -> HitAttributes {
         match self.prims[index as usize] {
+            Primitive::Instance { instance } => self.instance_attributes(instance, inner, s),
             Primitive::Triangle { mesh, tri } => {
                 self.meshes[mesh as usize].hit_attributes(tri, s.bary.x, s.bary.y)
             }
@@ -276,6 +301,7 @@ impl Geometry {
             Primitive::Triangle { mesh, tri } => {
                 unit_face_normal(self.meshes[mesh as usize].corners(tri))
             }
+            Primitive::Instance { instance } => self.instance_normal(instance, ray, hit),
         }
     }
 
@@ -283,6 +309,7 @@ impl Geometry {
     /// only `with_uv` (else 0).
     pub fn surface(&self, index: u32, ray: &Ray, hit: &PrimHit, with_uv: bool) -> SurfacePoint {
         match self.prims[index as usize] {
+            Primitive::Instance { instance } => self.instance_surface(instance, ray, hit, with_uv),
             Primitive::Sphere { sphere } => {
                 let s = &self.spheres[sphere as usize];
                 // `o + t d` in f32 can cancel badly (o.z = 25, t d.z = -25); projecting onto
@@ -365,6 +392,7 @@ impl From<TriangleHit> for PrimHit {
             t: h.t,
             u: h.u,
             v: h.v,
+            inner: 0,
         }
     }
 }

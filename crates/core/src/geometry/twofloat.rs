@@ -63,7 +63,6 @@ impl Dd {
     }
 
     /// The value rounded to `f64` (`hi + lo` rounds correctly since `lo` is below half an ulp).
-    #[cfg(test)]
     #[inline]
     pub fn to_f64(self) -> f64 {
         self.hi + self.lo

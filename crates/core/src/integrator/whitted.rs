@@ -172,7 +172,7 @@ impl<'a> Whitted<'a> {
         // traits stay the base material's, which bound every hit's.
         let at_hit = base.textured.as_ref().and_then(|_| {
             base.at_hit(
-                &self.scene.geometry().hit_attributes(hit.prim, s),
+                &self.scene.geometry().hit_attributes(hit.prim, hit.inner, s),
                 s.ns,
                 s.ng,
             )

@@ -32,6 +32,7 @@ pub(super) fn centre_aov(
     // texture reads them).
     let Interaction {
         prim,
+        inner,
         object,
         surface: s,
         ..
@@ -40,7 +41,11 @@ pub(super) fn centre_aov(
     // A textured material's albedo is the one shading uses at this hit.
     let albedo = match m.textured {
         Some(_) => m
-            .at_hit(&scene.geometry().hit_attributes(prim, &s), s.ns, s.ng)
+            .at_hit(
+                &scene.geometry().hit_attributes(prim, inner, &s),
+                s.ns,
+                s.ng,
+            )
             .map_or(Vec3::ZERO, |a| a.material.diffuse.eval(s.p, s.uv)),
         None => m.diffuse.eval(s.p, s.uv),
     };

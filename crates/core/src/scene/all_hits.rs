@@ -15,13 +15,17 @@ pub struct SurfaceHit {
     pub prim: u32,
     /// Object index (the scene's object list).
     pub object: u32,
+    /// The instance hit, if the primitive is one (the scene's instance list).
+    pub instance: Option<u32>,
+    /// The prototype's primitive, for a hit on an instance (0 otherwise).
+    pub inner: u32,
     /// Barycentric weight of the triangle's second vertex (0 for spheres).
     pub u: f32,
     /// Barycentric weight of the triangle's third vertex (0 for spheres).
     pub v: f32,
     /// Unit geometric normal: outward for spheres, by winding for triangles.
     pub normal: Vec3,
-    /// Which primitive: a sphere or a mesh's triangle.
+    /// Which primitive: a sphere or a mesh's triangle (a prototype's, for an instance).
     pub primitive: Primitive,
     /// True for a touch that does not cross the surface (a silhouette edge or vertex, a
     /// tangent sphere), false for a crossing.
@@ -47,12 +51,14 @@ impl World {
             .map(|h| SurfaceHit {
                 t: h.t,
                 prim: h.prim,
-                object: scene.object_of(h.prim),
+                object: scene.object_at(h.prim, h.hit.inner),
+                instance: g.has_instances().then(|| g.instance_of(h.prim)).flatten(),
+                inner: h.hit.inner,
                 u: h.hit.u,
                 v: h.hit.v,
                 // On the ray the hit was found on (a far ray's was moved near the scene).
                 normal: g.geometric_normal(h.prim, &traced, &h.hit),
-                primitive: g.prims()[h.prim as usize],
+                primitive: g.leaf_primitive(h.prim, h.hit.inner),
                 graze: h.graze,
             })
             .collect()

@@ -5,9 +5,29 @@ use super::domain;
 use super::limits::{self, LimitError};
 use super::{Frame, Object, Scene, Settings};
 use crate::camera::Camera;
-use crate::geometry::Geometry;
+use crate::geometry::{Geometry, Mesh, Placement, Prototype, Sphere};
 use crate::light::Light;
 use crate::material::Material;
+
+/// A shape of a prototype.
+#[derive(Clone, Debug)]
+pub enum Shape {
+    /// A triangle mesh.
+    Mesh(Mesh),
+    /// An analytic sphere (an ellipsoid under a non-uniform placement).
+    Sphere(Sphere),
+}
+
+/// One part of a prototype: a shape with its material; each instance makes an object of it.
+#[derive(Clone, Debug)]
+pub struct Part {
+    /// Appended to the instance's name (`<instance>/<part>`) when the prototype has several.
+    pub name: String,
+    /// The shape, in object space.
+    pub shape: Shape,
+    /// Its material (added already).
+    pub material: u32,
+}
 
 /// Assembles a [`Scene`], checking every reference as it goes.
 #[derive(Clone, Debug)]
@@ -23,6 +43,11 @@ pub struct SceneBuilder {
     rig_lights: usize,
     settings: Settings,
     warnings: Vec<String>,
+    /// The parts of each prototype: object name suffix and material.
+    prototype_parts: Vec<Vec<(String, u32)>>,
+    /// The first primitive of each part, by prototype.
+    prototype_starts: Vec<Vec<u32>>,
+    instance_objects: Vec<u32>,
     /// The first element outside [`limits`], reported by [`SceneBuilder::build`]: loaders
     /// keep their simple add calls, and no format can add an element unchecked.
     rejected: Option<LimitError>,
@@ -47,6 +72,9 @@ impl SceneBuilder {
             lights: Vec::new(),
             light_names: Vec::new(),
             rig_lights: 0,
+            prototype_parts: Vec::new(),
+            prototype_starts: Vec::new(),
+            instance_objects: Vec::new(),
             settings: Settings::default(),
             warnings: Vec::new(),
             rejected: None,
@@ -153,6 +181,95 @@ impl SceneBuilder {
         self.push_object(name, material, n)
     }
 
+    /// Adds a prototype made of `parts` (a name, a shape and a material each, the materials
+    /// added already), which instances place ([`SceneBuilder::add_instance`]); returns its
+    /// index. Its hierarchy is built here, once, however many instances place it.
+    pub fn add_prototype(&mut self, parts: Vec<Part>) -> u32 {
+        let mut g = Geometry::new();
+        let mut starts = Vec::with_capacity(parts.len());
+        let mut names = Vec::with_capacity(parts.len());
+        for part in parts {
+            assert!(
+                (part.material as usize) < self.materials.len(),
+                "material {} not added yet",
+                part.material
+            );
+            starts.push(g.prims().len() as u32);
+            let bounds = match part.shape {
+                Shape::Mesh(m) => {
+                    let b = m.bounds();
+                    g.add_mesh(m);
+                    b
+                }
+                Shape::Sphere(s) => {
+                    let b = s.bounds();
+                    g.add_sphere(s);
+                    b
+                }
+            };
+            let name = part.name;
+            self.check(
+                || format!("prototype part \"{name}\""),
+                limits::check_bounds(&bounds),
+            );
+            names.push((name, part.material));
+        }
+        self.prototype_parts.push(names);
+        self.prototype_starts.push(starts);
+        self.geometry.add_prototype(Prototype::new(g))
+    }
+
+    /// Places prototype `prototype` (must exist) by `to_world` as instance `name`: one object
+    /// per part of the prototype, named `name` (one part) or `name/<part>`. Returns the first
+    /// object's id. A singular or non-finite transform, or a placement outside the value
+    /// limits, is reported by [`SceneBuilder::build`].
+    pub fn add_instance(
+        &mut self,
+        prototype: u32,
+        name: impl Into<String>,
+        to_world: glam::DAffine3,
+    ) -> u32 {
+        let name = name.into();
+        let placement = match Placement::new(to_world) {
+            Ok(p) => p,
+            Err(e) => {
+                self.check(|| format!("instance \"{name}\""), Err(e.to_string()));
+                // Recorded: the scene is refused at `build`; the identity keeps ids going.
+                Placement::new(glam::DAffine3::IDENTITY).expect("the identity is invertible")
+            }
+        };
+        let prim = self.geometry.add_instance(prototype, placement);
+        let bounds = self.geometry.instances()[self.geometry.instances().len() - 1].bounds;
+        self.check(
+            || format!("instance \"{name}\""),
+            limits::check_bounds(&bounds),
+        );
+        let first = self.objects.len() as u32;
+        self.instance_objects.push(first);
+        let parts = &self.prototype_parts[prototype as usize];
+        let single = parts.len() == 1;
+        for (part, material) in parts.clone() {
+            let object = if single {
+                name.clone()
+            } else {
+                format!("{name}/{part}")
+            };
+            self.objects.push(Object {
+                name: object,
+                material,
+            });
+            // Every part object starts at the instance's primitive (`Scene::object_at` finds
+            // them through the instance; the next primitive's object starts after it).
+            self.object_starts.push(prim);
+        }
+        first
+    }
+
+    /// Number of instances so far.
+    pub fn instance_count(&self) -> usize {
+        self.geometry.instances().len()
+    }
+
     fn push_object(&mut self, name: String, material: u32, prims: usize) -> u32 {
         let id = self.objects.len() as u32;
         self.objects.push(Object { name, material });
@@ -182,6 +299,8 @@ impl SceneBuilder {
         }
         Ok(Scene {
             geometry: self.geometry,
+            instance_objects: self.instance_objects,
+            prototype_parts: self.prototype_starts,
             object_starts: self.object_starts,
             objects: self.objects,
             materials: self.materials,

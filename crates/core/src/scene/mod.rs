@@ -16,7 +16,7 @@ mod world;
 pub use all_hits::SurfaceHit;
 pub use animation::{Frame, FrameRate};
 pub use auto::{UpAxis, default_rig, framing_camera};
-pub use builder::SceneBuilder;
+pub use builder::{Part, SceneBuilder, Shape};
 pub use limits::LimitError;
 pub use settings::{
     DEFAULT_CUTOFF, MAX_DEPTH, MAX_LENS_SAMPLES, MAX_PIXELS, MAX_SIDE, MAX_SPP, Settings,
@@ -46,6 +46,10 @@ pub struct Object {
 #[derive(Clone, Debug)]
 pub struct Scene {
     geometry: Geometry,
+    /// The first object of each instance (one per part of its prototype, in part order).
+    instance_objects: Vec<u32>,
+    /// The first primitive of each part of each prototype, by prototype.
+    prototype_parts: Vec<Vec<u32>>,
     /// The first primitive of each object: objects own consecutive ranges, in object order.
     /// (A table per primitive cost a cache miss per hit record on large meshes and 4 bytes
     /// per primitive.)
@@ -75,8 +79,12 @@ pub struct Scene {
 pub struct Interaction {
     /// Ray parameter.
     pub t: f32,
-    /// Primitive index.
+    /// Primitive index (in the scene's primitive list: an instance's, for a hit on one).
     pub prim: u32,
+    /// The prototype's primitive, for a hit on an instance (0 otherwise).
+    pub inner: u32,
+    /// The instance hit, if the primitive is one.
+    pub instance: Option<u32>,
     /// Object index.
     pub object: u32,
     /// Surface geometry.
@@ -87,6 +95,11 @@ impl Scene {
     /// The geometry.
     pub fn geometry(&self) -> &Geometry {
         &self.geometry
+    }
+
+    /// The geometry, for building its instances' hierarchies ([`World::build`]).
+    pub(crate) fn geometry_mut(&mut self) -> &mut Geometry {
+        &mut self.geometry
     }
 
     /// Objects, indexed by object id.
@@ -103,6 +116,32 @@ impl Scene {
             // with the next one and owns nothing).
             starts => (starts.partition_point(|&s| s <= prim) - 1) as u32,
         }
+    }
+
+    /// Object owning a hit on primitive `prim` with [`crate::geometry::PrimHit::inner`]
+    /// `inner`: for an instance, its object for the prototype's part holding `inner`.
+    #[inline]
+    pub fn object_at(&self, prim: u32, inner: u32) -> u32 {
+        match self
+            .geometry
+            .has_instances()
+            .then(|| self.geometry.instance_of(prim))
+        {
+            Some(Some(instance)) => self.instance_object(instance, inner),
+            _ => self.object_of(prim),
+        }
+    }
+
+    /// The object of instance `instance` for its prototype's primitive `inner`.
+    pub fn instance_object(&self, instance: u32, inner: u32) -> u32 {
+        let proto = self.geometry.instances()[instance as usize].prototype;
+        let part = self.prototype_parts[proto as usize].partition_point(|&s| s <= inner) - 1;
+        self.instance_objects[instance as usize] + part as u32
+    }
+
+    /// The first object of each instance (see [`Scene::instance_object`]).
+    pub fn instance_objects(&self) -> &[u32] {
+        &self.instance_objects
     }
 
     /// Materials.

@@ -22,13 +22,29 @@ pub struct World {
 
 impl World {
     /// Builds accelerator `kind` over `scene`'s primitives.
-    pub fn build(scene: Scene, kind: AccelKind, opts: &BuildOptions) -> Self {
+    pub fn build(mut scene: Scene, kind: AccelKind, opts: &BuildOptions) -> Self {
+        // Two levels of one kind: brute force over instances is brute force inside them.
+        if scene.geometry().has_instances() {
+            scene
+                .geometry_mut()
+                .build_instances(kind, opts, Traversal::Ordered);
+        }
         let accel = Accel::build_for(kind, scene.geometry(), opts);
         Self { scene, accel }
     }
 
-    /// The same world walked with `traversal` (see [`Accel::with_traversal`]).
-    pub fn with_traversal(self, traversal: Traversal) -> Self {
+    /// The same world walked with `traversal` (see [`Accel::with_traversal`]), inside its
+    /// instances too.
+    pub fn with_traversal(mut self, traversal: Traversal) -> Self {
+        if self.scene.geometry().has_instances() {
+            let kind = self.accel.kind();
+            let built = self.scene.geometry().prototype_build();
+            if let Some(opts) = built {
+                self.scene
+                    .geometry_mut()
+                    .build_instances(kind, &opts, traversal);
+            }
+        }
         Self {
             accel: self.accel.with_traversal(traversal),
             scene: self.scene,
@@ -70,7 +86,7 @@ impl World {
     /// them (a sphere's cost two inverse trigonometric calls); elsewhere they stay 0, which
     /// nothing reads.
     fn surface_of(&self, traced: &Traced) -> Interaction {
-        let object = self.scene.object_of(traced.hit.prim);
+        let object = self.scene.object_at(traced.hit.prim, traced.hit.hit.inner);
         let uv = self.scene.material_of(object).reads_uv();
         self.interaction(traced, uv)
     }
@@ -154,10 +170,13 @@ impl World {
     /// texture coordinates only `with_uv`.
     pub fn interaction(&self, traced: &Traced, with_uv: bool) -> Interaction {
         let Hit { prim, hit } = traced.hit;
+        let g = self.scene.geometry();
         Interaction {
             t: traced.t,
             prim,
-            object: self.scene.object_of(prim),
+            inner: hit.inner,
+            instance: g.has_instances().then(|| g.instance_of(prim)).flatten(),
+            object: self.scene.object_at(prim, hit.inner),
             surface: self
                 .scene
                 .geometry()

@@ -6,7 +6,12 @@ use crate::math::Vec3;
 fn contact(prim: u32, t: f32, touch: Touch) -> Contact {
     Contact {
         prim,
-        hit: PrimHit { t, u: 0.5, v: 0.25 },
+        hit: PrimHit {
+            t,
+            u: 0.5,
+            v: 0.25,
+            inner: 0,
+        },
         touch,
     }
 }

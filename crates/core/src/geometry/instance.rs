@@ -1,0 +1,452 @@
+//! Instances: one prototype (meshes and spheres with a hierarchy of their own, built once)
+//! placed many times by affine transforms, as Embree, OptiX, Mitsuba and Cycles trace them.
+//!
+//! An instance is one primitive of the scene's top level. Its test moves the ray into the
+//! prototype's object space and asks the prototype's own accelerator:
+//!
+//! 1. The ray is first *framed* for the instance ([`RayFrame`] over the instance's world box):
+//!    an origin far from the instance (a camera 10 units from an instance scaled by 1e-6) is
+//!    moved along the ray, in double-double, to near the instance, so the object-space origin
+//!    is not rounded at a scale the prototype cannot resolve.
+//! 2. Origin and direction are transformed by the inverse placement in `f64` and rounded to
+//!    `f32` once each: the ray tested is the exact object-space image of the framed world ray,
+//!    to half an `f32` ulp of each coordinate. The parameter `t` is the same in both spaces (an
+//!    affine map keeps `o + t d` on the image of the line at the same `t`; the direction is not
+//!    normalised), so hits of different instances and of the top level compare by `t` directly.
+//! 3. A hit counts only where the framed world ray is inside the instance's world box as the
+//!    traversals' slab tests compute it (the box is grown by the transform's rounding, so true
+//!    hits are never near its edge): every box around the instance is then entered at that `t`
+//!    too, and every accelerator finds exactly what brute force over instances finds.
+//!
+//! Surfaces are computed in object space and mapped back: points by the placement in `f64`
+//! (the error bound carried through it), normals by the inverse transpose and normalised, so a
+//! mirrored instance's faces point as the flattened mesh's do (whose winding the flattening
+//! swaps). Tangents go by the placement with their handedness flipped under a mirror.
+
+use std::sync::Arc;
+
+use glam::{DAffine3, DMat3, DVec3};
+
+use super::surface::rounded_with_error;
+use super::{Geometry, PrimHit, Primitive, SurfacePoint};
+use crate::accel::{Accel, AccelKind, BuildOptions, Framing, RayFrame, Traversal, TraversalStats};
+use crate::geometry::{Contact, HitAttributes, Precision, Touch};
+use crate::math::{Aabb, Ray, Vec3, f32_down, f32_up};
+
+/// Relative growth of an instance's world box beyond the exact image of its prototype's box:
+/// covers the object-space ray's rounding (half an ulp of origin and direction, carried
+/// through a placement of moderate condition), which moves the tested point by far less.
+const BOX_GROWTH: f64 = 1.0 / (1u64 << 18) as f64;
+
+/// Why a placement cannot be used.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PlacementError {
+    /// A matrix or translation entry is NaN or infinite.
+    #[error("the transform has a non-finite entry")]
+    NonFinite,
+    /// The linear part cannot be inverted (a zero scale, or collapsed axes).
+    #[error(
+        "the transform is singular (determinant {determinant:e}): it flattens the mesh and has no inverse"
+    )]
+    Singular {
+        /// The linear part's determinant.
+        determinant: f64,
+    },
+}
+
+/// An affine placement of object space into world space, with what its queries need: the
+/// inverse for rays, the inverse transpose for normals.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    to_world: DAffine3,
+    to_object: DAffine3,
+    /// Inverse transpose of the linear part, for normals.
+    normals: DMat3,
+    /// The determinant is negative: the placement mirrors.
+    mirrors: bool,
+}
+
+impl Placement {
+    /// The placement `to_world` (object space to world space), refused when it is not finite
+    /// or not invertible in `f64` (a scale of 1e-6 on every axis is fine; zero is not).
+    pub fn new(to_world: DAffine3) -> Result<Self, PlacementError> {
+        if !to_world.is_finite() {
+            return Err(PlacementError::NonFinite);
+        }
+        let determinant = to_world.matrix3.determinant();
+        let to_object = to_world.inverse();
+        if determinant == 0.0 || !to_object.is_finite() {
+            return Err(PlacementError::Singular { determinant });
+        }
+        Ok(Self {
+            to_world,
+            to_object,
+            normals: to_object.matrix3.transpose(),
+            mirrors: determinant < 0.0,
+        })
+    }
+
+    /// Object space to world space.
+    pub fn to_world(&self) -> DAffine3 {
+        self.to_world
+    }
+
+    /// True when the placement mirrors (negative determinant).
+    pub fn mirrors(&self) -> bool {
+        self.mirrors
+    }
+
+    /// The object-space ray of world ray `ray`: origin and direction transformed in `f64` and
+    /// rounded once; the same interval. `None` when the image is not a usable ray (it
+    /// overflows `f32`, or the direction rounds to zero).
+    #[inline]
+    pub fn object_ray(&self, ray: &Ray) -> Option<Ray> {
+        let origin = self
+            .to_object
+            .transform_point3(ray.origin.as_dvec3())
+            .as_vec3();
+        let dir = self
+            .to_object
+            .transform_vector3(ray.dir.as_dvec3())
+            .as_vec3();
+        (origin.is_finite() && dir.is_finite() && dir != Vec3::ZERO).then_some(Ray {
+            origin,
+            dir,
+            ..*ray
+        })
+    }
+
+    /// The world box around the object-space box `b`: the exact image of its corners, rounded
+    /// outwards and grown by [`BOX_GROWTH`] of its size and position.
+    pub fn world_bounds(&self, b: &Aabb) -> Aabb {
+        if b.is_empty() {
+            return Aabb::EMPTY;
+        }
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for k in 0..8 {
+            let pick =
+                |bit: usize, min: f32, max: f32| (if k & bit == 0 { min } else { max }) as f64;
+            let corner = DVec3::new(
+                pick(1, b.min.x, b.max.x),
+                pick(2, b.min.y, b.max.y),
+                pick(4, b.min.z, b.max.z),
+            );
+            let w = self.to_world.transform_point3(corner);
+            lo = lo.min(w);
+            hi = hi.max(w);
+        }
+        let grow = ((hi - lo).max_element() + lo.abs().max(hi.abs()).max_element()) * BOX_GROWTH;
+        Aabb {
+            min: (lo - grow).to_array().map(f32_down).into(),
+            max: (hi + grow).to_array().map(f32_up).into(),
+        }
+    }
+
+    /// A world point and its error bound from an object-space point and its bound.
+    pub fn world_point(&self, p: Vec3, p_error: Vec3) -> (Vec3, Vec3) {
+        let exact = self.to_world.transform_point3(p.as_dvec3());
+        let m = self.to_world.matrix3;
+        let abs = DMat3::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs());
+        // The object point's own error, carried through the linear part, and the f64
+        // evaluation's rounding (a few ulps of the terms summed).
+        let carried = abs * p_error.as_dvec3();
+        let terms = abs * p.as_dvec3().abs() + self.to_world.translation.abs();
+        rounded_with_error(
+            exact,
+            carried * (1.0 + 1e-15) + terms * (8.0 * f64::EPSILON),
+        )
+    }
+
+    /// A unit world normal from an object-space one (inverse transpose; the orientation the
+    /// flattened mesh gets).
+    pub fn world_normal(&self, n: Vec3) -> Vec3 {
+        let w = self.normals * n.as_dvec3();
+        let len = w.length();
+        if len > 0.0 && len.is_finite() {
+            (w / len).as_vec3()
+        } else {
+            n
+        }
+    }
+
+    /// A unit world tangent with its handedness (`w`) from an object-space one.
+    fn world_tangent(&self, t: crate::math::Vec4) -> crate::math::Vec4 {
+        let d = self.to_world.matrix3 * t.truncate().as_dvec3();
+        let len = d.length();
+        let d = if len > 0.0 {
+            (d / len).as_vec3()
+        } else {
+            Vec3::ZERO
+        };
+        d.extend(if self.mirrors { -t.w } else { t.w })
+    }
+}
+
+/// Shapes placed by instances: their own geometry and the hierarchy over it, shared by every
+/// placement (a prototype is never copied: instances hold its index, scenes share it by `Arc`).
+#[derive(Clone, Debug)]
+pub struct Prototype {
+    geometry: Arc<Geometry>,
+    accel: Arc<Accel>,
+    /// What `accel` was built as (rebuilt when a world asks for another).
+    built: (AccelKind, BuildOptions),
+}
+
+impl Prototype {
+    /// A prototype over `geometry` (which must hold no instances: two levels), with the
+    /// default wide hierarchy until a world asks for another ([`Geometry::build_instances`]).
+    pub fn new(geometry: Geometry) -> Self {
+        assert!(
+            geometry.instances.is_empty(),
+            "a prototype holds shapes, not instances (two levels)"
+        );
+        let built = (AccelKind::Sah, BuildOptions::default());
+        let accel = Accel::build_for(built.0, &geometry, &built.1);
+        Self {
+            geometry: Arc::new(geometry),
+            accel: Arc::new(accel),
+            built,
+        }
+    }
+
+    /// The shapes.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+
+    /// The hierarchy over them.
+    pub fn accel(&self) -> &Accel {
+        &self.accel
+    }
+
+    /// Bytes of the shapes and the hierarchy (held once however many instances place them).
+    pub fn bytes(&self) -> usize {
+        self.geometry.bytes() + self.accel.bytes()
+    }
+}
+
+/// One placement of a prototype.
+#[derive(Clone, Debug)]
+pub struct Instance {
+    /// Index into [`Geometry::prototypes`].
+    pub prototype: u32,
+    /// Where it is.
+    pub placement: Placement,
+    /// Its world box (see [`Placement::world_bounds`]).
+    pub bounds: Aabb,
+    /// Where rays are traced from into it (far origins are moved near it first).
+    frame: RayFrame,
+}
+
+impl Geometry {
+    /// Adds a prototype; returns its index for [`Geometry::add_instance`].
+    pub fn add_prototype(&mut self, prototype: Prototype) -> u32 {
+        self.prototypes.push(prototype);
+        self.prototypes.len() as u32 - 1
+    }
+
+    /// Places prototype `prototype` (must exist) by `placement`; returns its primitive index.
+    pub fn add_instance(&mut self, prototype: u32, placement: Placement) -> u32 {
+        let proto = &self.prototypes[prototype as usize];
+        let bounds = placement.world_bounds(&proto.geometry.bounds());
+        self.any_instances = true;
+        self.instances.push(Instance {
+            prototype,
+            placement,
+            bounds,
+            frame: RayFrame::new(bounds),
+        });
+        self.prims.push(Primitive::Instance {
+            instance: self.instances.len() as u32 - 1,
+        });
+        self.prims.len() as u32 - 1
+    }
+
+    /// The prototypes instances place.
+    pub fn prototypes(&self) -> &[Prototype] {
+        &self.prototypes
+    }
+
+    /// The instances, by instance index.
+    pub fn instances(&self) -> &[Instance] {
+        &self.instances
+    }
+
+    /// True when some primitive is an instance.
+    #[inline(always)]
+    pub fn has_instances(&self) -> bool {
+        self.any_instances
+    }
+
+    /// The build options the prototypes' hierarchies were last built with (`None` without
+    /// prototypes).
+    pub fn prototype_build(&self) -> Option<BuildOptions> {
+        self.prototypes.first().map(|p| p.built.1)
+    }
+
+    /// The instance primitive `index` is, if it is one.
+    #[inline]
+    pub fn instance_of(&self, index: u32) -> Option<u32> {
+        match self.prims[index as usize] {
+            Primitive::Instance { instance } if self.any_instances => Some(instance),
+            _ => None,
+        }
+    }
+
+    /// Rebuilds every prototype's hierarchy as `kind` with `opts` walked by `traversal`
+    /// (brute force over instances is brute force inside them too), where it was built
+    /// otherwise.
+    pub fn build_instances(&mut self, kind: AccelKind, opts: &BuildOptions, traversal: Traversal) {
+        for p in &mut self.prototypes {
+            if p.built != (kind, *opts) {
+                p.accel = Arc::new(Accel::build_for(kind, &p.geometry, opts));
+                p.built = (kind, *opts);
+            }
+            if p.accel.traversal() != traversal {
+                p.accel = Arc::new(Accel::clone(&p.accel).with_traversal(traversal));
+            }
+        }
+    }
+
+    /// The instance's framing of `ray`, the ray it frames to, and that ray in object space.
+    #[inline(always)]
+    fn instance_ray(&self, instance: u32, ray: &Ray) -> Option<(&Instance, Framing, Ray)> {
+        let inst = &self.instances[instance as usize];
+        let framing = inst.frame.frame(ray);
+        let object = inst.placement.object_ray(framing.ray(ray)?)?;
+        Some((inst, framing, object))
+    }
+
+    /// The nearest hit of `ray` on instance `instance` with the tests of `precision`: its `t`
+    /// on `ray`, the prototype's barycentrics and, in [`PrimHit::inner`], the prototype's
+    /// primitive. Kept only within the instance's box (see the module docs).
+    #[inline(never)]
+    pub(super) fn intersect_instance(
+        &self,
+        instance: u32,
+        ray: &Ray,
+        precision: Precision,
+    ) -> Option<PrimHit> {
+        let (inst, framing, object) = self.instance_ray(instance, ray)?;
+        let proto = &self.prototypes[inst.prototype as usize];
+        let mut stats = TraversalStats::default();
+        let traced = proto
+            .accel
+            .trace_geometry(&proto.geometry, precision, &object, &mut stats)?;
+        let t = framing.caller_t(traced.t)?;
+        crate::math::slab::within_box(&inst.bounds, ray, t).then_some(PrimHit {
+            t,
+            u: traced.hit.hit.u,
+            v: traced.hit.hit.v,
+            inner: traced.hit.prim,
+        })
+    }
+
+    /// The contacts of `ray` with instance `instance` for an all-hits query: the prototype's
+    /// own all-hits answer (its seams resolved inside it), as crossings and grazes.
+    pub(super) fn instance_contacts(
+        &self,
+        instance: u32,
+        index: u32,
+        ray: &Ray,
+        precision: Precision,
+        out: &mut Vec<Contact>,
+    ) {
+        let Some((inst, framing, object)) = self.instance_ray(instance, ray) else {
+            return;
+        };
+        let proto = &self.prototypes[inst.prototype as usize];
+        let mut stats = TraversalStats::default();
+        let found = proto
+            .accel
+            .all_hits_geometry(&proto.geometry, precision, &object, &mut stats);
+        for h in found.hits {
+            let Some(t) = framing.caller_t(h.t) else {
+                continue;
+            };
+            if !crate::math::slab::within_box(&inst.bounds, ray, t) {
+                continue;
+            }
+            out.push(Contact {
+                prim: index,
+                hit: PrimHit {
+                    t,
+                    u: h.hit.u,
+                    v: h.hit.v,
+                    inner: h.prim,
+                },
+                touch: if h.graze {
+                    Touch::Graze
+                } else {
+                    Touch::Crossing
+                },
+            });
+        }
+    }
+
+    /// The object-space ray and hit of a hit on instance `instance` found on `ray`.
+    fn object_hit(&self, instance: u32, ray: &Ray, hit: &PrimHit) -> (&Instance, Ray, PrimHit) {
+        let inst = &self.instances[instance as usize];
+        let framing = inst.frame.frame(ray);
+        let local = framing.ray(ray).copied().unwrap_or(*ray);
+        let object = inst.placement.object_ray(&local).unwrap_or(local);
+        let t = framing.local_t(hit.t);
+        (inst, object, PrimHit { t, ..*hit })
+    }
+
+    /// [`Geometry::surface`] of a hit on an instance: computed in object space, mapped back.
+    pub(super) fn instance_surface(
+        &self,
+        instance: u32,
+        ray: &Ray,
+        hit: &PrimHit,
+        with_uv: bool,
+    ) -> SurfacePoint {
+        let (inst, object, h) = self.object_hit(instance, ray, hit);
+        let proto = &self.prototypes[inst.prototype as usize];
+        let s = proto.geometry.surface(hit.inner, &object, &h, with_uv);
+        let (p, p_error) = inst.placement.world_point(s.p, s.p_error);
+        let ng = inst.placement.world_normal(s.ng);
+        let ns = inst.placement.world_normal(s.ns);
+        SurfacePoint {
+            p,
+            ng,
+            ns: if ns.dot(ng) < 0.0 { -ns } else { ns },
+            p_error,
+            ..s
+        }
+    }
+
+    /// [`Geometry::geometric_normal`] of a hit on an instance.
+    pub(super) fn instance_normal(&self, instance: u32, ray: &Ray, hit: &PrimHit) -> Vec3 {
+        let (inst, object, h) = self.object_hit(instance, ray, hit);
+        let proto = &self.prototypes[inst.prototype as usize];
+        let n = proto.geometry.geometric_normal(hit.inner, &object, &h);
+        inst.placement.world_normal(n)
+    }
+
+    /// [`Geometry::hit_attributes`] of a hit on an instance (tangents mapped to world space).
+    pub(super) fn instance_attributes(
+        &self,
+        instance: u32,
+        inner: u32,
+        s: &SurfacePoint,
+    ) -> HitAttributes {
+        let inst = &self.instances[instance as usize];
+        let proto = &self.prototypes[inst.prototype as usize];
+        let mut a = proto.geometry.hit_attributes(inner, 0, s);
+        a.tangent = a.tangent.map(|t| inst.placement.world_tangent(t));
+        a
+    }
+
+    /// The primitive kind at the bottom of a hit: the prototype's primitive for an instance.
+    pub fn leaf_primitive(&self, index: u32, inner: u32) -> Primitive {
+        match self.prims[index as usize] {
+            Primitive::Instance { instance } => {
+                let proto = &self.prototypes[self.instances[instance as usize].prototype as usize];
+                proto.geometry.prims[inner as usize]
+            }
+            p => p,
+        }
+    }
+}
