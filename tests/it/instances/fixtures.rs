@@ -94,7 +94,7 @@ pub fn flattened(placements: &[DAffine3]) -> Scene {
     let m = b.add_material(Material::default());
     b.add_mesh("ground", ground(), m);
     for (i, p) in placements.iter().enumerate() {
-        let m4 = Mat4::from(glam::DMat4::from(*p).as_mat4());
+        let m4: Mat4 = glam::DMat4::from(*p).as_mat4();
         b.add_mesh(format!("copy{i}"), mesh.clone().transformed(&m4), m);
     }
     b.build(camera()).expect("within the limits")
