@@ -6,6 +6,7 @@
 
 pub mod accuracy;
 pub mod effects;
+pub mod instances;
 pub mod load;
 mod outputs;
 pub mod paper;
@@ -35,6 +36,12 @@ pub enum BenchCommand {
     /// What the effect decisions save: time and rays by kind of the default render against
     /// `--effects all`, per scene, in the same run.
     Effects(effects::EffectsArgs),
+    /// Memory, load+build and render time of a model placed 1 to 100,000 times, flattened
+    /// against instanced.
+    Instances(instances::InstancesArgs),
+    /// One scene of placements, for `instances`' child processes.
+    #[command(hide = true)]
+    InstancesOne(instances::InstancesOneArgs),
     /// One load, for `bench load`'s child processes: prints seconds and peak bytes.
     #[command(hide = true)]
     LoadOne {
@@ -69,6 +76,8 @@ fn run(command: &BenchCommand) -> Result<()> {
         BenchCommand::Accuracy(args) => accuracy::run(args),
         BenchCommand::Effects(args) => effects::run(args),
         BenchCommand::LoadOne { file } => load::run_one(file),
+        BenchCommand::Instances(args) => instances::run(args),
+        BenchCommand::InstancesOne(args) => instances::run_one(args),
     }
 }
 

@@ -222,7 +222,12 @@ impl Accel {
         stats: &mut TraversalStats,
     ) -> bool {
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
-            return wide.occluded(ray, stats, PackedWatertight::new(packed, geometry));
+            return wide.occluded(ray, stats, PackedWatertight::for_any(packed, geometry));
+        }
+        if geometry.has_instances() {
+            // Instances answer any-hit queries with their own any-hit walk.
+            let wr = crate::geometry::WatertightRay::new(ray.dir);
+            return self.any(ray, stats, |p, r| geometry.blocks(precision, p, r, &wr));
         }
         with_prim_test!(geometry, precision, ray, |test| {
             self.any(ray, stats, |p, r| test(p, r).is_some())

@@ -190,6 +190,8 @@ pub struct Prototype {
     accel: Arc<Accel>,
     /// What `accel` was built as (rebuilt when a world asks for another).
     built: (AccelKind, BuildOptions),
+    /// Bounds of the shapes (a mesh's are a pass over its vertices: once, not per placement).
+    bounds: Aabb,
 }
 
 impl Prototype {
@@ -203,6 +205,7 @@ impl Prototype {
         let built = (AccelKind::Sah, BuildOptions::default());
         let accel = Accel::build_for(built.0, &geometry, &built.1);
         Self {
+            bounds: geometry.bounds(),
             geometry: Arc::new(geometry),
             accel: Arc::new(accel),
             built,
@@ -212,6 +215,11 @@ impl Prototype {
     /// The shapes.
     pub fn geometry(&self) -> &Geometry {
         &self.geometry
+    }
+
+    /// Bounds of the shapes, in object space.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
     }
 
     /// The hierarchy over them.
@@ -248,7 +256,7 @@ impl Geometry {
     /// Places prototype `prototype` (must exist) by `placement`; returns its primitive index.
     pub fn add_instance(&mut self, prototype: u32, placement: Placement) -> u32 {
         let proto = &self.prototypes[prototype as usize];
-        let bounds = placement.world_bounds(&proto.geometry.bounds());
+        let bounds = placement.world_bounds(&proto.bounds);
         self.any_instances = true;
         self.instances.push(Instance {
             prototype,
@@ -308,18 +316,44 @@ impl Geometry {
         }
     }
 
-    /// The instance's framing of `ray`, the ray it frames to, and that ray in object space.
+    /// The instance's framing of `ray` and the object-space ray to test. A ray traced as given
+    /// is clipped to the interval in which it is inside the instance's box as the traversals
+    /// compute it: every hit the prototype then reports lies in that box (see the module docs),
+    /// and nearest and any-hit queries search the same interval.
     #[inline(always)]
     fn instance_ray(&self, instance: u32, ray: &Ray) -> Option<(&Instance, Framing, Ray)> {
         let inst = &self.instances[instance as usize];
         let framing = inst.frame.frame(ray);
-        let object = inst.placement.object_ray(framing.ray(ray)?)?;
+        let local = match framing {
+            Framing::AsGiven => {
+                let (near, far) = crate::math::slab::box_range(&inst.bounds, ray)?;
+                let clipped = Ray {
+                    t_min: ray.t_min.max(near.next_down()),
+                    t_max: ray.t_max.min(far),
+                    ..*ray
+                };
+                // Empty, or NaN from a degenerate range: nothing in the box to find.
+                if !(clipped.t_min < clipped.t_max) {
+                    return None;
+                }
+                clipped
+            }
+            _ => *framing.ray(ray)?,
+        };
+        let object = inst.placement.object_ray(&local)?;
         Some((inst, framing, object))
+    }
+
+    /// Whether hit distance `t` (on `ray`) counts for instance `inst` framed by `framing`: a
+    /// clipped ray's hits always do; a moved ray's must lie in the box (see the module docs).
+    #[inline(always)]
+    fn in_instance_box(inst: &Instance, framing: &Framing, ray: &Ray, t: f32) -> bool {
+        matches!(framing, Framing::AsGiven) || crate::math::slab::within_box(&inst.bounds, ray, t)
     }
 
     /// The nearest hit of `ray` on instance `instance` with the tests of `precision`: its `t`
     /// on `ray`, the prototype's barycentrics and, in [`PrimHit::inner`], the prototype's
-    /// primitive. Kept only within the instance's box (see the module docs).
+    /// primitive.
     #[inline(never)]
     pub(super) fn intersect_instance(
         &self,
@@ -334,12 +368,30 @@ impl Geometry {
             .accel
             .trace_geometry(&proto.geometry, precision, &object, &mut stats)?;
         let t = framing.caller_t(traced.t)?;
-        crate::math::slab::within_box(&inst.bounds, ray, t).then_some(PrimHit {
+        Self::in_instance_box(inst, &framing, ray, t).then_some(PrimHit {
             t,
             u: traced.hit.hit.u,
             v: traced.hit.hit.v,
             inner: traced.hit.prim,
         })
+    }
+
+    /// Whether something of instance `instance` blocks `ray`: the prototype's any-hit query
+    /// over the clipped interval (the verdict of [`Geometry::intersect_instance`], found
+    /// without looking for the nearest); a moved ray asks for the nearest hit.
+    #[inline(never)]
+    pub(super) fn instance_blocks(&self, instance: u32, ray: &Ray, precision: Precision) -> bool {
+        let Some((inst, framing, object)) = self.instance_ray(instance, ray) else {
+            return false;
+        };
+        if !matches!(framing, Framing::AsGiven) {
+            return self.intersect_instance(instance, ray, precision).is_some();
+        }
+        let proto = &self.prototypes[inst.prototype as usize];
+        let mut stats = TraversalStats::default();
+        proto
+            .accel
+            .occluded_geometry(&proto.geometry, precision, &object, &mut stats)
     }
 
     /// The contacts of `ray` with instance `instance` for an all-hits query: the prototype's
@@ -364,7 +416,7 @@ impl Geometry {
             let Some(t) = framing.caller_t(h.t) else {
                 continue;
             };
-            if !crate::math::slab::within_box(&inst.bounds, ray, t) {
+            if !Self::in_instance_box(inst, &framing, ray, t) {
                 continue;
             }
             out.push(Contact {

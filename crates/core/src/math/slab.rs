@@ -135,9 +135,14 @@ impl SlabKind {
 /// box that contains `b`, since box entries and exits are monotone in the box's planes.
 #[inline]
 pub(crate) fn within_box(b: &Aabb, ray: &Ray, t: f32) -> bool {
-    with_slab!(ray, |slab| slab
-        .range(b, f32::NEG_INFINITY, f32::INFINITY)
-        .is_some_and(|(near, far)| near <= t && t <= far))
+    box_range(b, ray).is_some_and(|(near, far)| near <= t && t <= far)
+}
+
+/// The entry and exit of box `b` as the traversals compute them for `ray` (over all `t`): the
+/// interval [`within_box`] tests against.
+#[inline]
+pub(crate) fn box_range(b: &Aabb, ray: &Ray) -> Option<(f32, f32)> {
+    with_slab!(ray, |slab| slab.range(b, f32::NEG_INFINITY, f32::INFINITY))
 }
 
 /// Runs `$body` with `$slab` bound to the slab test `$ray` needs (a macro, because each arm

@@ -18,7 +18,7 @@ use super::{Closest, LEAF_ALIGN, PADDING, TraversalStats};
 use crate::geometry::triangle::{
     TriangleHit, WatertightRay, finish_decided_hit, intersect_triangle,
 };
-use crate::geometry::{Geometry, PrimHit, Primitive};
+use crate::geometry::{Geometry, Precision, PrimHit, Primitive};
 use crate::math::{Ray, Vec3};
 use classify::GroupTest;
 
@@ -103,6 +103,9 @@ pub(crate) struct PackedWatertight<'a> {
     shear: Option<(WatertightRay, GroupTest)>,
     /// Where in the leaf order the best hit so far lies ([`NO_SLOT`] before one).
     best_slot: u32,
+    /// For an any-hit query: a lane that is not a triangle (an instance) is asked whether it
+    /// blocks, not for its nearest hit.
+    any_hit: bool,
 }
 
 /// [`PackedWatertight::best_slot`] of a query without a hit.
@@ -117,6 +120,16 @@ impl<'a> PackedWatertight<'a> {
             geometry,
             shear: None,
             best_slot: NO_SLOT,
+            any_hit: false,
+        }
+    }
+
+    /// [`PackedWatertight::new`] for an any-hit query.
+    #[inline(always)]
+    pub(crate) fn for_any(packed: &'a PackedLeaves, geometry: &'a Geometry) -> Self {
+        Self {
+            any_hit: true,
+            ..Self::new(packed, geometry)
         }
     }
 
@@ -137,6 +150,9 @@ impl<'a> PackedWatertight<'a> {
         ray: &Ray,
         mut f: impl FnMut(u32, u32, PrimHit) -> Option<Ray>,
     ) {
+        if !self.has_triangles(first, count) {
+            return self.each_alone_hit(first, count, ray, f);
+        }
         if self.shear.is_none() {
             let wr = WatertightRay::new(ray.dir);
             self.shear = Some((wr, GroupTest::new(ray, &wr)));
@@ -166,7 +182,17 @@ impl<'a> PackedWatertight<'a> {
                 };
                 let hit = match decided_hit {
                     Some(h) => h.and_then(|h| self.alpha(prim, h)),
-                    // Not a triangle: the geometry's own test (a sphere).
+                    // Not a triangle: the geometry's own test (a sphere, an instance); an
+                    // any-hit query needs only the verdict, which `f` takes from any hit.
+                    None if v[0][lane].is_nan() && self.any_hit => self
+                        .geometry
+                        .blocks(Precision::Watertight, prim, &ray, wr)
+                        .then_some(PrimHit {
+                            t: ray.t_max,
+                            u: 0.0,
+                            v: 0.0,
+                            inner: 0,
+                        }),
                     None if v[0][lane].is_nan() => self.geometry.intersect(prim, &ray, wr),
                     None => intersect_triangle(&ray, wr, p[0], p[1], p[2])
                         .and_then(|h| self.alpha(prim, h)),
@@ -187,6 +213,50 @@ impl<'a> PackedWatertight<'a> {
             }
             left -= lanes;
             g += 1;
+        }
+    }
+
+    /// Whether the leaf at `first` with `count` entries holds a triangle (the first lane
+    /// usually answers).
+    #[inline(always)]
+    fn has_triangles(&self, first: u32, count: usize) -> bool {
+        (first as usize..first as usize + count)
+            .any(|slot| !self.packed.groups[slot / LANES].v[0][slot % LANES].is_nan())
+    }
+
+    /// [`PackedWatertight::each_hit`] of a leaf of spheres and instances only (a top level
+    /// over instances): each through the geometry's own test, without the shear and the
+    /// group test, which only triangles use.
+    #[inline(never)]
+    fn each_alone_hit(
+        &mut self,
+        first: u32,
+        count: usize,
+        ray: &Ray,
+        mut f: impl FnMut(u32, u32, PrimHit) -> Option<Ray>,
+    ) {
+        let mut ray = *ray;
+        for slot in first as usize..first as usize + count {
+            let prim = self.packed.groups[slot / LANES].prim[slot % LANES];
+            if prim == PADDING {
+                continue;
+            }
+            let hit = if self.any_hit {
+                self.geometry.blocks_alone(prim, &ray).then_some(PrimHit {
+                    t: ray.t_max,
+                    u: 0.0,
+                    v: 0.0,
+                    inner: 0,
+                })
+            } else {
+                self.geometry.intersect_alone(prim, &ray)
+            };
+            if let Some(h) = hit {
+                match f(prim, NO_SLOT, h) {
+                    Some(next) => ray = next,
+                    None => return,
+                }
+            }
         }
     }
 

@@ -44,7 +44,7 @@
 //! Perlin noise, so they look alike but are not the same pixels.
 
 mod camera;
-mod mesh_m;
+pub mod mesh_m;
 
 use super::{SceneError, read_text};
 use camera::CameraSpec;
