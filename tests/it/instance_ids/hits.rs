@@ -28,9 +28,11 @@ fn down(x: f32, y: f32) -> RayRow {
     [x, y, 12.0, 0.0, 0.0, -1.0, 0.0, INF]
 }
 
-/// Rays with known answers: (ray, distance, instance, object name, kind); `None` distance for
-/// a miss.
-fn known() -> Vec<(RayRow, Option<f32>, Option<u32>, &'static str, PrimKind)> {
+/// A ray with its known answer: distance (`None` for a miss), instance, object name, kind.
+type Known = (RayRow, Option<f32>, Option<u32>, &'static str, PrimKind);
+
+/// Rays with known answers.
+fn known() -> Vec<Known> {
     use PrimKind::{Sphere, Triangle};
     vec![
         (down(-3.0, 0.0), Some(11.0), Some(0), "copy0/ball", Sphere),
