@@ -52,7 +52,10 @@ class Hits:
     `t` (float32, `inf` for a miss), `prim_id` and `obj_id` (int64, -1 for a miss), `u`, `v`
     (float32 barycentric weights of the triangle's second and third vertex; 0 for spheres and
     misses), `normal` (float32 `(N, 3)`, unit geometric normal: outward for spheres, by winding
-    for triangles; 0 for misses), `kind` (int8: 0 sphere, 1 triangle, -1 miss).
+    for triangles; 0 for misses), `kind` (int8: 0 sphere, 1 triangle, -1 miss), `inst_id`
+    (int64: the instance hit, -1 for a miss or a surface of no instance; `prim_id` is then the
+    prototype's primitive, as Embree's `primID` with its `instID`; the column
+    `lumis hits --instance-ids` appends).
     """
 
     t: np.ndarray
@@ -62,6 +65,7 @@ class Hits:
     v: np.ndarray
     normal: np.ndarray
     kind: np.ndarray
+    inst_id: np.ndarray
 
     @property
     def hit(self) -> np.ndarray:
@@ -75,9 +79,10 @@ class Hits:
         """The arrays by name."""
         return dict(self.__dict__)
 
-    def rows(self) -> np.ndarray:
-        """The `(N, 9)` float32 rows `lumis hits --out` writes (ids as float32)."""
-        out = np.empty((len(self), 9), np.float32)
+    def rows(self, instance_ids: bool = False) -> np.ndarray:
+        """The `(N, 9)` float32 rows `lumis hits --out` writes (ids as float32); with
+        `instance_ids`, `(N, 10)` with `inst_id` last, as `lumis hits --instance-ids`."""
+        out = np.empty((len(self), 10 if instance_ids else 9), np.float32)
         out[:, 0] = self.t
         out[:, 1] = self.prim_id
         out[:, 2] = self.obj_id
@@ -85,6 +90,8 @@ class Hits:
         out[:, 4] = self.v
         out[:, 5:8] = self.normal
         out[:, 8] = self.kind
+        if instance_ids:
+            out[:, 9] = self.inst_id
         return out
 
 
@@ -94,7 +101,7 @@ class AllHits:
     and so on, each ray's sorted by `t` (ties by primitive id).
 
     `ray` (int64) is the index of the ray each hit belongs to; `t`, `prim_id`, `obj_id`, `u`,
-    `v`, `normal`, `kind` are as in `Hits`; `graze` (bool) is true for a touch that does not
+    `v`, `normal`, `kind`, `inst_id` are as in `Hits`; `graze` (bool) is true for a touch that does not
     cross the surface (a silhouette edge or vertex, a tangent sphere), false for a crossing.
     Each surface crossing is counted once, also where the ray passes through a shared edge or
     vertex (docs/hard-cases.md, "All hits along a ray").
@@ -109,6 +116,7 @@ class AllHits:
     normal: np.ndarray
     kind: np.ndarray
     graze: np.ndarray
+    inst_id: np.ndarray
 
     def __len__(self) -> int:
         return len(self.t)
@@ -122,7 +130,9 @@ class Image(Dict[str, np.ndarray]):
     names with `layout="blender"`), each an `(H, W)` array holding exactly the values the EXR
     `lumis render` writes would hold: RGBA as float16 (float32 with `float_rgba=True`),
     linear and already exposed; the rest float32 (ids as float, -1 where the centre ray
-    missed; `Z` +inf there). Row 0 is the top of the image.
+    missed; `Z` +inf there). A scene with instances also has `id.instance` (Blender:
+    `ViewLayer.IndexInstance.X`): the instance index, -1 on misses and on surfaces of no
+    instance. Row 0 is the top of the image.
     """
 
     #: The exposure applied to RGBA, in stops.

@@ -9,7 +9,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
 
-/// The columns of `records`, built without the GIL.
+/// The columns of `records`, built without the GIL: `inst_id` is the instance (Embree's
+/// `instID` beside `primID` and `geomID`; -1 outside any instance and for misses), the rest
+/// the nine columns of `lumis hits`.
 pub struct HitColumns {
     t: Vec<f32>,
     prim_id: Vec<i64>,
@@ -18,6 +20,7 @@ pub struct HitColumns {
     v: Vec<f32>,
     normal: Vec<f32>,
     kind: Vec<i8>,
+    inst_id: Vec<i64>,
 }
 
 impl HitColumns {
@@ -41,6 +44,7 @@ impl HitColumns {
                 .par_iter()
                 .map(|r| r.kind.map_or(-1, |k| k as i8))
                 .collect(),
+            inst_id: records.par_iter().map(|r| id(r.instance)).collect(),
         }
     }
 
@@ -56,6 +60,7 @@ impl HitColumns {
         let normal = Array2::from_shape_vec((n, 3), self.normal).expect("3 floats per record");
         d.set_item("normal", PyArray2::from_owned_array(py, normal))?;
         d.set_item("kind", self.kind.into_pyarray(py))?;
+        d.set_item("inst_id", self.inst_id.into_pyarray(py))?;
         Ok(d)
     }
 }

@@ -88,6 +88,8 @@ pub fn render<'py>(
         albedo: request.aovs.iter().any(|a| a == "albedo"),
         position: request.aovs.iter().any(|a| a == "position"),
         uv: request.aovs.iter().any(|a| a == "uv"),
+        // As `lumis render`: the instance ids whenever the scene has instances.
+        instance: s.geometry().has_instances(),
     };
     let opts = RenderOptions {
         seed: request.seed,

@@ -192,7 +192,8 @@ def test_intersect_all_known_answers_and_cli_rows(knot, cli, tmp_path):
     want = cli_hits(cli, tmp_path, KNOT, rays, "--all")
     a = knot.intersect_all(*split(rays))
     rows = np.column_stack([a.ray.astype(np.float32), Hits(*(getattr(a, k) for k in
-                           ("t", "prim_id", "obj_id", "u", "v", "normal", "kind"))).rows(),
+                           ("t", "prim_id", "obj_id", "u", "v", "normal", "kind",
+                                            "inst_id"))).rows(),
                            a.graze.astype(np.float32)])
     assert np.array_equal(bits(rows), bits(want))
     # The first hit of each ray is its nearest hit; a closed knot is crossed an even number

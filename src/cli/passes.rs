@@ -78,12 +78,13 @@ pub struct PassArgs {
 }
 
 impl PassArgs {
-    /// The optional AOV layers asked for.
-    pub fn aov_layers(&self) -> AovLayers {
+    /// The optional AOV layers asked for, with `id.instance` when the scene has instances.
+    pub fn aov_layers(&self, instances: bool) -> AovLayers {
         AovLayers {
             albedo: self.aov.contains(&AovArg::Albedo),
             position: self.aov.contains(&AovArg::Position),
             uv: self.aov.contains(&AovArg::Uv),
+            instance: instances,
         }
     }
 

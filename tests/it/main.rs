@@ -37,6 +37,7 @@ mod gltf_views;
 mod hard_cases;
 mod hits;
 mod hits_all;
+mod instance_ids;
 mod instances;
 mod memory_bombs;
 mod module_flow;

@@ -8,6 +8,7 @@
 //! in the input, columns 1..=9 the nearest-hit file's nine columns (`t`, primitive id, object
 //! id, `u`, `v`, normal xyz, kind), column 10 the graze flag (1 for a touch that does not cross
 //! the surface, 0 for a crossing). A ray without hits has no row. Indices are exact up to 2^24.
+//! With `--instance-ids`, `(M, 12)`: column 11 the instance id (-1 outside any instance).
 
 use super::records::{HitsError, stage_rows};
 use lumis_core::batch::{
@@ -59,16 +60,25 @@ impl HitRows {
         }
     }
 
-    /// Stages the rows for `path` (see [`stage_rows`]).
-    pub fn stage(&self, staged: &mut StagedOutputs, path: &Path) -> Result<(), HitsError> {
-        match self {
-            Self::Nearest(records) => {
-                let rows: Vec<_> = records.iter().map(HitRecord::row).collect();
-                stage_rows(staged, path, &rows)
+    /// Stages the rows for `path` (see [`stage_rows`]), with the instance column appended
+    /// when `instance_ids`.
+    pub fn stage(
+        &self,
+        staged: &mut StagedOutputs,
+        path: &Path,
+        instance_ids: bool,
+    ) -> Result<(), HitsError> {
+        fn rows<R, const N: usize>(records: &[R], row: fn(&R) -> [f32; N]) -> Vec<[f32; N]> {
+            records.iter().map(row).collect()
+        }
+        match (self, instance_ids) {
+            (Self::Nearest(r), false) => stage_rows(staged, path, &rows(r, HitRecord::row)),
+            (Self::Nearest(r), true) => {
+                stage_rows(staged, path, &rows(r, HitRecord::row_with_instance))
             }
-            Self::All(records) => {
-                let rows: Vec<_> = records.iter().map(AllHitRecord::row).collect();
-                stage_rows(staged, path, &rows)
+            (Self::All(r), false) => stage_rows(staged, path, &rows(r, AllHitRecord::row)),
+            (Self::All(r), true) => {
+                stage_rows(staged, path, &rows(r, AllHitRecord::row_with_instance))
             }
         }
     }

@@ -43,6 +43,12 @@ pub struct HitsArgs {
     /// hits, bit for bit; for timing the packet walk.
     #[arg(long, conflicts_with_all = ["any_hit", "all"])]
     packets: bool,
+    /// Append one column to every --out row, the instance hit (index in the scene's instance
+    /// list, float32 like the other ids; -1 for a miss, an any-hit answer or a surface of no
+    /// instance): (N, 10), or with --all (M, 12) after the graze flag. The primitive id of an
+    /// instance's hit is its prototype's primitive. Without the flag the rows are as before.
+    #[arg(long)]
+    instance_ids: bool,
     #[command(flatten)]
     accel: AccelArgs,
     #[command(flatten)]
@@ -138,7 +144,7 @@ pub fn run(args: &HitsArgs) -> Result<()> {
     // Every result goes to a temporary file first; they replace existing files only once all
     // were written.
     let mut staged = StagedOutputs::new();
-    hits.stage(&mut staged, &args.out)?;
+    hits.stage(&mut staged, &args.out, args.instance_ids)?;
     if let Some(path) = &args.spawn_out {
         stage_rows(&mut staged, path, &spawn_rows(&world, &rays[..]))?;
     }

@@ -7,7 +7,8 @@
 //! - rays `(N, 8)`: origin xyz, direction xyz (any non-zero length; `t` is in units of it),
 //!   `t_min`, `t_max`; hits count in `(t_min, t_max]`.
 //! - hits `(N, 9)`: `t`, primitive id, object id, `u`, `v`, normal xyz, primitive kind
-//!   ([`HitRecord::row`]).
+//!   ([`HitRecord::row`]); with `--instance-ids` `(N, 10)`, the instance id appended
+//!   ([`HitRecord::row_with_instance`]; -1 outside any instance).
 //! - triangles `(M, 10)`, spheres `(K, 5)`, spawn origins `(N, 6)`.
 //!
 //! Ids are stored as float32, exact up to 2^24.

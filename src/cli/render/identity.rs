@@ -9,7 +9,7 @@ use super::RenderArgs;
 use anyhow::{Context, Result};
 use lumis_core::scene::Settings;
 use lumis_io::files::InputFile;
-use lumis_io::output::RenderIdentity;
+use lumis_io::output::{AovLayers, RenderIdentity};
 use std::fmt::Write as _;
 
 impl RenderArgs {
@@ -64,7 +64,19 @@ impl RenderArgs {
         let _ = writeln!(s, "exposure: {exposure}");
         let _ = writeln!(s, "z miss: {}", self.window.z_miss);
         let _ = writeln!(s, "float rgba: {}", self.float);
-        let _ = writeln!(s, "aov: {:?}", self.passes.aov_layers());
+        // The layers asked for, in the text this line had before `id.instance`: that layer
+        // follows the scene, which the scene hash covers, and tiles rendered before it keep
+        // merging with tiles rendered after.
+        let AovLayers {
+            albedo,
+            position,
+            uv,
+            instance: _,
+        } = self.passes.aov_layers(false);
+        let _ = writeln!(
+            s,
+            "aov: AovLayers {{ albedo: {albedo}, position: {position}, uv: {uv} }}"
+        );
         let _ = writeln!(s, "passes: {:?}", self.passes.pass_request(true));
         let _ = writeln!(s, "cryptomatte levels: {cryptomatte:?}");
         let _ = writeln!(s, "layout: {:?}", self.passes.layout());

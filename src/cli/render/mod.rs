@@ -253,7 +253,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         exposure: 0.0,
         z_miss: args.window.z_miss,
         partial: rendered.is_partial(),
-        aov_layers: args.passes.aov_layers(),
+        aov_layers: args.passes.aov_layers(scene.geometry().has_instances()),
         layout: args.passes.layout(),
         identity: Some(identity),
         tile,

@@ -8,13 +8,16 @@
 //!   triangle's second and third vertex; 0 for spheres), unit geometric normal (outward for
 //!   spheres, by winding for triangles), primitive kind. Its [`HitRecord::row`] is the
 //!   `(N, 9)` float32 row `lumis hits` writes: a miss is `t = +inf`, ids and kind `-1`, the
-//!   rest 0. Any-hit queries report the `t` of whichever blocker the traversal met first (not
+//!   rest 0. [`HitRecord::row_with_instance`] appends a tenth column, the instance id (`-1`
+//!   outside any instance; then `prim` is the prototype's primitive, as Embree's `primID`
+//!   with its `instID`). Any-hit queries report the `t` of whichever blocker the traversal met first (not
 //!   necessarily the nearest; `+inf` when unoccluded), no ids, no kind.
 //! - [`AllHitRecord`]: every hit along a ray ([`World::all_hits`]: each surface crossing
 //!   counted once, plus the grazes), with its ray's index and a graze flag; its
 //!   [`AllHitRecord::row`] is the `(M, 11)` row of `lumis hits --all`: ray index, the nine
 //!   hit columns, graze (1 or 0). The records of ray 0 come first, then ray 1's, each ray's
 //!   sorted by `t` (ties by primitive id); a ray without hits has none.
+//!   [`AllHitRecord::row_with_instance`] appends the instance id as a twelfth column.
 //! - spawn origins `(N, 6)`, row `i` for ray `i`: where a secondary ray leaving the hit would
 //!   start under the scene's `offset` rule, on the side the ray came from (xyz, what shadow and
 //!   reflection rays use) and on the far side (xyz, what refraction uses); `+inf` for misses.
@@ -41,6 +44,10 @@ pub const RAY_COLUMNS: usize = 8;
 pub const HIT_COLUMNS: usize = 9;
 /// Floats per all-hits row: ray index, the hit columns, graze.
 pub const ALL_HIT_COLUMNS: usize = HIT_COLUMNS + 2;
+/// Floats per hit row with the instance column ([`HitRecord::row_with_instance`]).
+pub const HIT_INSTANCE_COLUMNS: usize = HIT_COLUMNS + 1;
+/// Floats per all-hits row with the instance column ([`AllHitRecord::row_with_instance`]).
+pub const ALL_HIT_INSTANCE_COLUMNS: usize = ALL_HIT_COLUMNS + 1;
 /// Floats per triangle row.
 pub const TRIANGLE_COLUMNS: usize = 10;
 /// Floats per sphere row.

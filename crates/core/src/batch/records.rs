@@ -1,6 +1,6 @@
 //! The answers of batch queries and their float rows (see the module docs of [`super`]).
 
-use super::{ALL_HIT_COLUMNS, HIT_COLUMNS, HitRow};
+use super::{ALL_HIT_COLUMNS, ALL_HIT_INSTANCE_COLUMNS, HIT_COLUMNS, HIT_INSTANCE_COLUMNS, HitRow};
 use crate::geometry::Primitive;
 use crate::math::Vec3;
 
@@ -77,6 +77,16 @@ impl HitRecord {
             self.kind.map_or(-1.0, |k| k as u8 as f32),
         ]
     }
+
+    /// [`Self::row`] with one more column at the end, the instance id (`-1` for a hit outside
+    /// any instance, a miss or an any-hit answer): appended, so that a reader of the nine
+    /// columns finds them where they were (`lumis hits --instance-ids`).
+    pub fn row_with_instance(&self) -> [f32; HIT_INSTANCE_COLUMNS] {
+        let mut row = [0.0; HIT_INSTANCE_COLUMNS];
+        row[..HIT_COLUMNS].copy_from_slice(&self.row());
+        row[HIT_COLUMNS] = self.instance.map_or(-1.0, |i| i as f32);
+        row
+    }
 }
 
 /// One hit of an all-hits query: the ray it belongs to, the hit, and whether it is a graze.
@@ -99,6 +109,15 @@ impl AllHitRecord {
         row[0] = self.ray as f32;
         row[1..=HIT_COLUMNS].copy_from_slice(&self.hit.row());
         row[HIT_COLUMNS + 1] = if self.graze { 1.0 } else { 0.0 };
+        row
+    }
+
+    /// [`Self::row`] with the instance id appended after the graze flag (`-1` outside any
+    /// instance; `lumis hits --all --instance-ids`), every other column where it was.
+    pub fn row_with_instance(&self) -> [f32; ALL_HIT_INSTANCE_COLUMNS] {
+        let mut row = [0.0; ALL_HIT_INSTANCE_COLUMNS];
+        row[..ALL_HIT_COLUMNS].copy_from_slice(&self.row());
+        row[ALL_HIT_COLUMNS] = self.hit.instance.map_or(-1.0, |i| i as f32);
         row
     }
 }
@@ -124,5 +143,22 @@ mod tests {
             instance: None,
         };
         assert_eq!(hit.row(), [2.5, 7.0, 1.0, 0.25, 0.5, 0.0, 0.0, 1.0, 1.0]);
+        assert_eq!(hit.row_with_instance()[..HIT_COLUMNS], hit.row());
+        assert_eq!(hit.row_with_instance()[HIT_COLUMNS], -1.0);
+        assert_eq!(HitRecord::MISS.row_with_instance()[HIT_COLUMNS], -1.0);
+        let placed = HitRecord {
+            instance: Some(5),
+            ..hit
+        };
+        assert_eq!(placed.row(), hit.row());
+        assert_eq!(placed.row_with_instance()[HIT_COLUMNS], 5.0);
+        let all = AllHitRecord {
+            ray: 3,
+            hit: placed,
+            graze: true,
+        };
+        let row = all.row_with_instance();
+        assert_eq!(row[..ALL_HIT_COLUMNS], all.row());
+        assert_eq!(row[ALL_HIT_COLUMNS], 5.0);
     }
 }

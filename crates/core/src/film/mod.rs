@@ -31,6 +31,9 @@ pub struct PixelAov {
     pub prim_id: i32,
     /// Object index, -1 where missed.
     pub object_id: i32,
+    /// Index of the instance hit (the scene's instance list), -1 where missed or where the
+    /// surface belongs to no instance.
+    pub instance_id: i32,
     /// Diffuse albedo `kd` of the material at the hit (textures evaluated, before lighting);
     /// zero where missed.
     pub albedo: Vec3,
@@ -48,6 +51,7 @@ impl PixelAov {
         normal: Vec3::ZERO,
         prim_id: -1,
         object_id: -1,
+        instance_id: -1,
         albedo: Vec3::ZERO,
         position: Vec3::ZERO,
         uv: Vec2::ZERO,

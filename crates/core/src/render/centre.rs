@@ -34,6 +34,7 @@ pub(super) fn centre_aov(
         prim,
         inner,
         object,
+        instance,
         surface: s,
         ..
     } = world.interaction(&traced, true);
@@ -56,6 +57,7 @@ pub(super) fn centre_aov(
         normal: s.ns,
         prim_id: prim as i32,
         object_id: object as i32,
+        instance_id: instance.map_or(-1, |i| i as i32),
         albedo,
         position: s.p,
         uv: s.uv,

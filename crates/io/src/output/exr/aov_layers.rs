@@ -7,6 +7,12 @@
 //! | `P.X/Y/Z`           | world-space hit point; 0 at misses                             |
 //! | `uv.U/V`            | texture coordinates at the hit; 0 at misses                    |
 //! | `uv.A` (Blender layout only) | 1 where the centre ray hit a surface, 0 at misses     |
+//! | `id.instance`       | index of the instance hit (the scene's list); -1 at misses and on surfaces of no instance |
+//!
+//! `id.instance` is no request: a render writes it whenever its scene has instances (beside
+//! `id.prim`, which is then the prototype's primitive, and `id.object`, the instance's own
+//! object), and never otherwise, so that the files of scenes without instances keep the
+//! channels, and the bytes, they had before instancing.
 
 use super::layout::ChannelLayout;
 use lumis_core::film::{Film, PixelAov};
@@ -20,6 +26,8 @@ pub struct AovLayers {
     pub position: bool,
     /// `uv.U/V`.
     pub uv: bool,
+    /// `id.instance`: set from the scene (it has instances), not asked for.
+    pub instance: bool,
 }
 
 /// One optional channel: its layer, lumis name, value from a pixel's AOV and, unless it is
@@ -32,7 +40,7 @@ struct AovChannel {
     set: Option<fn(&mut PixelAov, f32)>,
 }
 
-const CHANNELS: [AovChannel; 9] = [
+const CHANNELS: [AovChannel; 10] = [
     AovChannel {
         layer: |l| l.albedo,
         name: "albedo.R",
@@ -88,6 +96,14 @@ const CHANNELS: [AovChannel; 9] = [
         get: |a| if a.object_id >= 0 { 1.0 } else { 0.0 },
         set: None,
     },
+    // An index like `id.object`, stored as a float holding an integer; the reader checks it is
+    // one (every `id.` channel).
+    AovChannel {
+        layer: |l| l.instance,
+        name: "id.instance",
+        get: |a| a.instance_id as f32,
+        set: Some(|a, v| a.instance_id = v as i32),
+    },
 ];
 
 /// The table's channels of `layers` in `layout` (`uv.A` only where the layout has it).
@@ -118,6 +134,7 @@ pub(super) fn present(layout: ChannelLayout, has: impl Fn(&str) -> bool) -> AovL
         albedo: first("albedo.R"),
         position: first("P.X"),
         uv: first("uv.U"),
+        instance: first("id.instance"),
     }
 }
 

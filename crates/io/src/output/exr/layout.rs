@@ -9,6 +9,7 @@
 //! | `N.X/Y/Z`        | `ViewLayer.Normal.X/Y/Z`         |
 //! | `id.object`      | `ViewLayer.IndexOB.X`            |
 //! | `id.prim`        | `ViewLayer.IndexPrim.X` (lumis's own; Blender has no such pass) |
+//! | `id.instance`    | `ViewLayer.IndexInstance.X` (lumis's own, named like `IndexOB`) |
 //! | `albedo.R/G/B`   | `ViewLayer.DiffCol.R/G/B`        |
 //! | `P.X/Y/Z`        | `ViewLayer.Position.X/Y/Z`       |
 //! | `uv.U/V`         | `ViewLayer.UV.U/V`, plus `ViewLayer.UV.A` (1 on hits, 0 on misses) |
@@ -60,6 +61,7 @@ impl ChannelLayout {
                     "Z" => "Depth.Z".to_string(),
                     "id.object" => "IndexOB.X".to_string(),
                     "id.prim" => "IndexPrim.X".to_string(),
+                    "id.instance" => "IndexInstance.X".to_string(),
                     // A light's name has no dots (`Scene::light_names`): the channel is last.
                     _ if name.starts_with("light.") => match name[6..].rsplit_once('.') {
                         Some((light, c)) => format!("Combined_{light}.{c}"),
@@ -139,6 +141,7 @@ mod tests {
             ("Z", "ViewLayer.Depth.Z"),
             ("N.Y", "ViewLayer.Normal.Y"),
             ("id.object", "ViewLayer.IndexOB.X"),
+            ("id.instance", "ViewLayer.IndexInstance.X"),
             ("albedo.G", "ViewLayer.DiffCol.G"),
             ("P.Z", "ViewLayer.Position.Z"),
             ("uv.V", "ViewLayer.UV.V"),

@@ -108,6 +108,10 @@ pub(super) fn film(
             aov.depth = f32::INFINITY;
         }
         for (name, values) in aov_names.iter().zip(&aov_values) {
+            // An index channel holds integers: anything else would not be written back as read.
+            if name.starts_with("id.") {
+                id(values, name, i)?;
+            }
             aov_layers::store(&mut aov, name, values[i]);
         }
         let colour = Vec4::new(rgba[0][i], rgba[1][i], rgba[2][i], rgba[3][i]);
