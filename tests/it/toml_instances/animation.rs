@@ -55,6 +55,21 @@ fn frames_place_the_instance_where_the_keys_say() {
 }
 
 #[test]
+fn a_define_of_a_keyed_instance_field_warns_that_the_keys_win() {
+    let scene = load_at(SCENE, &["instance.mover.translate=[9, 0, 0]"], Some(0)).unwrap();
+    let w = scene.warnings().join("\n");
+    assert!(
+        w.contains("-D instance.mover.translate=[9, 0, 0]: keys in [[animation.instance]]"),
+        "{w}"
+    );
+    // A field no key gives is not shadowed: scale moves the instance's top.
+    let scene = load_at(SCENE, &["instance.mover.scale=[1, 4, 1]"], Some(0)).unwrap();
+    assert!(scene.warnings().is_empty(), "{:?}", scene.warnings());
+    let (i, _) = hit(&world(scene), Vec3::new(0.0, 10.0, 0.0), Vec3::NEG_Y).unwrap();
+    assert!((i.surface.p.y - 2.0).abs() < 1e-4, "{}", i.surface.p.y);
+}
+
+#[test]
 fn instance_keys_are_checked_as_mesh_keys_are() {
     let with = |key: &str| format!("{SCENE}\n[[animation.instance]]\n{key}\n");
     let e = error(

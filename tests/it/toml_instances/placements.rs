@@ -171,3 +171,18 @@ fn a_sphere_under_a_non_uniform_scale_renders_as_its_ellipsoid_and_d_moves_it() 
         "{e}"
     );
 }
+
+#[test]
+fn the_example_scene_places_its_ring_centre_and_grid() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/instances.toml");
+    let scene = crate::common::render::load(&path);
+    assert_eq!(scene.geometry().instances().len(), 8 + 1 + 21);
+    let names: Vec<&str> = scene.objects().iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names[..3], ["ground", "ring/0", "ring/1"]);
+    assert_eq!(names[9..11], ["centre", "grid/0"]);
+    assert_eq!(names.last(), Some(&"grid/20"));
+    // The centre knot mirrors: its placement's determinant is -0.8^3.
+    let centre = &scene.geometry().instances()[8].placement;
+    assert!(centre.mirrors());
+    assert!((centre.to_world().matrix3.determinant() + 0.512).abs() < 1e-12);
+}
