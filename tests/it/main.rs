@@ -53,5 +53,6 @@ mod ray_domain;
 mod render_known_answers;
 mod scene_loading;
 mod scn_loading;
+mod toml_instances;
 mod toml_models;
 mod watertight;

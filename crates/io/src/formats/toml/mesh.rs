@@ -20,6 +20,14 @@ use super::{Loader, SceneError};
 use lumis_core::geometry::{Mesh, Primitive};
 use lumis_core::math::{Mat4, Vec3};
 
+/// One object of a mesh element: its mesh (transformed) and material.
+pub(super) struct MeshPart {
+    /// The model's object name (`NAME/OBJECT`); `None` when the element makes one object.
+    pub object: Option<String>,
+    pub mesh: Mesh,
+    pub material: u32,
+}
+
 impl Loader<'_> {
     /// Adds the scene objects of mesh element `e` (see the module docs for how many).
     pub(super) fn add_mesh(
@@ -28,13 +36,32 @@ impl Loader<'_> {
         name: String,
         m: &MeshDoc,
     ) -> Result<(), SceneError> {
+        for part in self.mesh_parts(e, m)? {
+            let object = match part.object {
+                None => name.clone(),
+                Some(o) => format!("{name}/{o}"),
+            };
+            self.builder.add_mesh(object, part.mesh, part.material);
+        }
+        Ok(())
+    }
+
+    /// The objects mesh element `e` makes, each under the element's transform, with their
+    /// materials added to the builder (in the order the objects are added, so ids do not
+    /// depend on whether the element is drawn or instanced).
+    pub(super) fn mesh_parts(&mut self, e: &str, m: &MeshDoc) -> Result<Vec<MeshPart>, SceneError> {
         let xf = self.transform(e, m)?;
+        let one = |mesh, material| {
+            vec![MeshPart {
+                object: None,
+                mesh,
+                material,
+            }]
+        };
         let Some(file) = m.file.as_deref() else {
             let mesh = self.inline_mesh(e, m)?;
             let material = self.material_ref(e, m.material.as_deref())?;
-            self.builder
-                .add_mesh(name, self.finish(e, m, mesh, &xf)?, material);
-            return Ok(());
+            return Ok(one(self.finish(e, m, mesh, &xf)?, material));
         };
         if m.positions.is_some() {
             return Err(self.err(e, "give either file or positions + indices"));
@@ -43,16 +70,14 @@ impl Loader<'_> {
             return Err(self.err(e, "indices/normals go with inline positions, not file"));
         }
         match extension(file).as_deref() {
-            Some("gltf" | "glb") => return self.add_gltf(e, name, m, file, &xf),
+            Some("gltf" | "glb") => return self.gltf_parts(e, m, file, &xf),
             Some("m") => {
                 let path = resolve(self.origin, file);
                 let bytes = self.read_asset(e, &path)?;
                 let text = String::from_utf8_lossy(&bytes);
                 let mesh = parse_m(&text, &path).map_err(|err| self.asset_error(e, &path, err))?;
                 let material = self.material_ref(e, m.material.as_deref())?;
-                self.builder
-                    .add_mesh(name, self.finish(e, m, mesh, &xf)?, material);
-                return Ok(());
+                return Ok(one(self.finish(e, m, mesh, &xf)?, material));
             }
             Some("obj") => {}
             _ => {
@@ -72,9 +97,7 @@ impl Loader<'_> {
             let meshes = model.objects.into_iter().map(|o| o.mesh).collect();
             let mesh = obj::merge_meshes(meshes).map_err(|err| self.err(e, err.to_string()))?;
             let material = self.material_ref(e, m.material.as_deref())?;
-            self.builder
-                .add_mesh(name, self.finish(e, m, mesh, &xf)?, material);
-            return Ok(());
+            return Ok(one(self.finish(e, m, mesh, &xf)?, material));
         }
         let ids: Vec<u32> = model
             .materials
@@ -83,20 +106,19 @@ impl Loader<'_> {
             .map(|(mat, name)| self.builder.add_named_material(name, mat))
             .collect();
         let single = model.objects.len() == 1;
+        let mut parts = Vec::with_capacity(model.objects.len());
         for o in model.objects {
             let material = match o.material {
                 Some(k) => ids[k],
                 None => self.material_ref(e, None)?,
             };
-            let object = if single {
-                name.clone()
-            } else {
-                format!("{name}/{}", o.name)
-            };
-            let mesh = self.finish(e, m, o.mesh, &xf)?;
-            self.builder.add_mesh(object, mesh, material);
+            parts.push(MeshPart {
+                object: (!single).then_some(o.name),
+                mesh: self.finish(e, m, o.mesh, &xf)?,
+                material,
+            });
         }
-        Ok(())
+        Ok(parts)
     }
 
     /// The mesh of inline `positions` + `indices` (+ `normals`).
@@ -167,14 +189,13 @@ impl Loader<'_> {
     }
 
     /// The meshes and materials of glTF `file`, each mesh under its node transform and then `xf`.
-    fn add_gltf(
+    fn gltf_parts(
         &mut self,
         e: &str,
-        name: String,
         m: &MeshDoc,
         file: &str,
         xf: &Mat4,
-    ) -> Result<(), SceneError> {
+    ) -> Result<Vec<MeshPart>, SceneError> {
         let path = resolve(self.origin, file);
         let bytes = self.read_asset(e, &path)?;
         let model = load_gltf_bytes(&bytes, &path, self.resolver, &LoadOptions::default())
@@ -189,6 +210,7 @@ impl Loader<'_> {
             .transpose()?;
         let mut materials = std::collections::HashMap::new();
         let single = model.objects().len() == 1;
+        let mut parts = Vec::new();
         for (object, o) in model.objects().iter().enumerate() {
             // A glTF scene holds only meshes, one per object: find this object's.
             let mesh =
@@ -217,15 +239,14 @@ impl Loader<'_> {
                     )
                 }),
             };
-            let label = if single {
-                name.clone()
-            } else {
-                format!("{name}/{}", o.name)
-            };
             let mesh = self.finish(e, m, model.geometry().meshes()[mesh as usize].clone(), xf)?;
-            self.builder.add_mesh(label, mesh, material);
+            parts.push(MeshPart {
+                object: (!single).then(|| o.name.clone()),
+                mesh,
+                material,
+            });
         }
-        Ok(())
+        Ok(parts)
     }
 
     /// The bytes of a model file, through the resolver; errors name the element and the file.

@@ -3,26 +3,29 @@
 
 mod animation;
 mod environment;
+mod instance;
 mod mesh;
 mod overrides;
 mod render;
 mod schema;
 
+pub use instance::MAX_INSTANCE_OBJECTS;
 pub(crate) use overrides::refuse_non_render;
 pub use overrides::{Override, apply_render_overrides};
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 use super::{Resolver, SceneError, read_file_bytes, read_text};
 use animation::Animation;
+use instance::Target;
 use lumis_core::camera::Camera;
 use lumis_core::geometry::Sphere;
 use lumis_core::light::Light;
 use lumis_core::material::{Material, Texture};
 use lumis_core::math::Vec3;
 use lumis_core::scene::Scene;
-use lumis_core::scene::{SceneBuilder, domain, framing_camera};
+use lumis_core::scene::{Part, SceneBuilder, Shape, domain, framing_camera};
 use schema::{CameraDoc, LightDoc, LightKind, MaterialDoc, RenderDoc, SceneDoc};
 
 /// Loads the TOML scene at `path`; referenced files are read from disk relative to its folder.
@@ -92,6 +95,7 @@ pub fn load_toml_str_at(
         materials: HashMap::new(),
         frame,
         overrides,
+        prototypes: HashMap::new(),
     }
     .load(doc)
 }
@@ -107,6 +111,8 @@ struct Loader<'a> {
     frame: Option<u32>,
     /// The `-D` overrides already applied to the document (for warnings).
     overrides: &'a [Override],
+    /// The elements instances place: their prototype and how many parts it has.
+    prototypes: HashMap<Target, (u32, usize)>,
 }
 
 impl Loader<'_> {
@@ -133,6 +139,8 @@ impl Loader<'_> {
                 None => self.builder.add_light(light),
             }
         }
+        let targets = instance::targets(&doc, &self)?;
+        let instanced: HashSet<Target> = targets.iter().copied().collect();
         for (i, s) in doc.sphere.iter().enumerate() {
             let element = match &s.name {
                 Some(n) => format!("sphere[{i}] \"{n}\""),
@@ -148,7 +156,12 @@ impl Loader<'_> {
                 radius: s.radius,
             };
             let name = s.name.clone().unwrap_or_else(|| format!("sphere{i}"));
-            self.builder.add_sphere(name, sphere, material);
+            if instanced.contains(&Target::Sphere(i)) {
+                let shape = Shape::Sphere(sphere);
+                self.add_prototype_of(Target::Sphere(i), vec![part(name, shape, material)]);
+            } else {
+                self.builder.add_sphere(name, sphere, material);
+            }
         }
         for (i, m) in doc.mesh.iter().enumerate() {
             let element = match &m.name {
@@ -156,8 +169,18 @@ impl Loader<'_> {
                 None => format!("mesh[{i}]"),
             };
             let name = m.name.clone().unwrap_or_else(|| format!("mesh{i}"));
-            self.add_mesh(&element, name, m)?;
+            if instanced.contains(&Target::Mesh(i)) {
+                let parts = self.mesh_parts(&element, m)?.into_iter();
+                let parts = parts.map(|p| {
+                    let name = p.object.unwrap_or_else(|| name.clone());
+                    part(name, Shape::Mesh(p.mesh), p.material)
+                });
+                self.add_prototype_of(Target::Mesh(i), parts.collect());
+            } else {
+                self.add_mesh(&element, name, m)?;
+            }
         }
+        self.add_instances(&doc.instance, &targets)?;
         let camera = match (&doc.camera, &animation) {
             (Some(c), Some(a)) if a.animates_camera() => self.animated_camera(c, a)?,
             (Some(c), _) => self.camera("camera", c)?,
@@ -177,7 +200,7 @@ impl Loader<'_> {
         Ok(scene)
     }
 
-    fn err(&self, element: &str, message: impl Into<String>) -> SceneError {
+    pub(super) fn err(&self, element: &str, message: impl Into<String>) -> SceneError {
         SceneError::invalid(self.origin, element, message)
     }
 
@@ -362,5 +385,14 @@ impl Loader<'_> {
         self.finite(e, "fov, aperture", &[fov, aperture])?;
         Camera::look_at(position, look_at, up, fov, aperture, c.focus_distance)
             .map_err(|err| self.err(e, err.to_string()))
+    }
+}
+
+/// A prototype part.
+fn part(name: String, shape: Shape, material: u32) -> Part {
+    Part {
+        name,
+        shape,
+        material,
     }
 }

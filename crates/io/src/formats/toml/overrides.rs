@@ -8,6 +8,7 @@
 //! -D materials.glass.ior=1.6        [materials.glass] ior = 1.6
 //! -D sphere.0.radius=2              the first [[sphere]]'s radius
 //! -D sphere.ball.center=[0,1,0]     the [[sphere]] with name = "ball"
+//! -D instance.ring.translate=[1,0,0] the [[instance]] with name = "ring"
 //! -D render.display=clamp           a bare word is a string
 //! ```
 //!
@@ -120,7 +121,7 @@ impl fmt::Display for Override {
 
 /// Puts `value` at `path` under `table` (`at` is the key so far, for messages): tables are
 /// entered by key (a missing one is created, so a new material can be defined), arrays of
-/// tables (`sphere`, `mesh`, `light`) by index or by an element's `name`. Elements of arrays
+/// tables (`sphere`, `mesh`, `instance`, `light`) by index or by an element's `name`. Elements of arrays
 /// are changed, never added.
 fn put(table: &mut Table, path: &[String], value: &Value, at: &str) -> Result<(), String> {
     let (seg, rest) = path.split_first().expect("a key has at least one segment");

@@ -21,6 +21,8 @@ pub(super) struct SceneDoc {
     pub sphere: Vec<SphereDoc>,
     #[serde(default)]
     pub mesh: Vec<MeshDoc>,
+    #[serde(default)]
+    pub instance: Vec<InstanceDoc>,
     pub animation: Option<AnimationDoc>,
     pub environment: Option<EnvironmentDoc>,
 }
@@ -142,6 +144,24 @@ pub(super) enum Scale {
     PerAxis([f32; 3]),
 }
 
+/// `[[instance]]` (`instance.rs`): the `[[mesh]]` or `[[sphere]]` named `of`, placed by one
+/// placement or by arrays of them. Values are `f32` as a mesh's transform (so keys pose them
+/// exactly); the placement is computed from them in `f64`. `matrix` is `f64`: its entries
+/// (sines, cosines) are worth the digits.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct InstanceDoc {
+    pub of: String,
+    pub name: Option<String>,
+    pub translate: Option<[f32; 3]>,
+    pub rotate: Option<[f32; 3]>,
+    pub scale: Option<Scale>,
+    pub matrix: Option<Vec<f64>>,
+    pub translations: Option<Vec<[f32; 3]>>,
+    pub rotations: Option<Vec<[f32; 3]>>,
+    pub scales: Option<Vec<Scale>>,
+}
+
 /// `[animation]`: the frame range and rate, and the keys of what moves.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -157,6 +177,9 @@ pub(super) struct AnimationDoc {
     pub sphere: Vec<SphereKeyDoc>,
     #[serde(default)]
     pub mesh: Vec<MeshKeyDoc>,
+    /// `[[animation.instance]]`: the same fields as a mesh key, on a named `[[instance]]`.
+    #[serde(default)]
+    pub instance: Vec<MeshKeyDoc>,
 }
 
 /// `fps = 24` or `fps = [24000, 1001]` (numerator, denominator).
@@ -204,7 +227,8 @@ pub(super) struct SphereKeyDoc {
     pub radius: Option<f32>,
 }
 
-/// `[[animation.mesh]]`: the named `[[mesh]]`'s `translate` and `rotate` at one frame.
+/// `[[animation.mesh]]` and `[[animation.instance]]`: the `translate` and `rotate` of the
+/// named `[[mesh]]` or `[[instance]]` at one frame.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct MeshKeyDoc {

@@ -138,11 +138,43 @@ impl Keys<'_> {
 
     pub(super) fn meshes(&self, doc: &SceneDoc) -> Result<Vec<ObjectTracks>, SceneError> {
         let names = Names::of(doc.mesh.iter().map(|m| m.name.as_deref()));
-        let keys = &self.a.mesh;
+        self.placed_objects("mesh", &names, &self.a.mesh, |_| Ok(()))
+    }
+
+    /// The tracks of `[[animation.instance]]`: only an instance of one `translate`/`rotate`
+    /// placement can be keyed (keys give those two fields).
+    pub(super) fn instances(&self, doc: &SceneDoc) -> Result<Vec<ObjectTracks>, SceneError> {
+        let names = Names::of(doc.instance.iter().map(|d| d.name.as_deref()));
+        self.placed_objects("instance", &names, &self.a.instance, |i| {
+            let d = &doc.instance[i];
+            let by = if d.translations.is_some() {
+                "translations (one instance per entry)"
+            } else if d.matrix.is_some() {
+                "a matrix"
+            } else {
+                return Ok(());
+            };
+            Err(format!(
+                "the [[instance]] is placed by {by}; keys animate the translate and rotate of                  an instance placed by translate/rotate/scale"
+            ))
+        })
+    }
+
+    /// The `translate` and `rotate` tracks of `keys` on the `[[kind]]` elements `names` names;
+    /// `keyable` says why an element cannot take keys.
+    fn placed_objects(
+        &self,
+        kind: &str,
+        names: &Names<'_>,
+        keys: &[MeshKeyDoc],
+        keyable: impl Fn(usize) -> Result<(), String>,
+    ) -> Result<Vec<ObjectTracks>, SceneError> {
         let mut out = Vec::new();
         for (name, members) in group(keys.iter().map(|k| k.name.as_str())) {
-            let e = |i: usize| format!("animation.mesh[{i}] \"{name}\" (frame {})", keys[i].frame);
-            let index = self.target(&e(members[0]), "mesh", &names, name)?;
+            let e =
+                |i: usize| format!("animation.{kind}[{i}] \"{name}\" (frame {})", keys[i].frame);
+            let index = self.target(&e(members[0]), kind, names, name)?;
+            keyable(index).map_err(|m| self.err(&e(members[0]), m))?;
             let mut earlier = HashMap::new();
             for &i in &members {
                 let k = &keys[i];
@@ -220,7 +252,7 @@ impl Keys<'_> {
     }
 }
 
-/// The elements of one array (`[[sphere]]`, `[[mesh]]`) by name.
+/// The elements of one array (`[[sphere]]`, `[[mesh]]`, `[[instance]]`) by name.
 struct Names<'a>(HashMap<&'a str, Vec<usize>>);
 
 impl<'a> Names<'a> {
@@ -311,7 +343,7 @@ fn check_sphere_key(k: &SphereKeyDoc) -> Result<(), String> {
     }
 }
 
-/// Why a mesh key's values cannot pose a mesh.
+/// Why a mesh (or instance) key's values cannot pose it.
 fn check_mesh_key(k: &MeshKeyDoc) -> Result<(), String> {
     if k.translate.is_none() && k.rotate.is_none() {
         return Err("the key animates nothing: give translate or rotate".into());

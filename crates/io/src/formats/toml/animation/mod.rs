@@ -1,6 +1,7 @@
 //! `[animation]` (docs/scene-format.md, "Animation"): the keys are checked, then the document
 //! is posed at one frame, so the rest of the loader builds a still exactly as if the posed
-//! values had been written into `[camera]`, `[[sphere]]` and `[[mesh]]` by hand.
+//! values had been written into `[camera]`, `[[sphere]]`, `[[mesh]]` and `[[instance]]` by
+//! hand.
 //!
 //! Each animated field is its own [`Track`] over the keys that give it (Blender's F-curves,
 //! glTF's channels): a key may move the `position` alone and leave `fov` to other keys. Fields
@@ -24,6 +25,7 @@ pub(super) struct Animation {
     camera_keys: Vec<u32>,
     spheres: Vec<ObjectTracks>,
     meshes: Vec<ObjectTracks>,
+    instances: Vec<ObjectTracks>,
 }
 
 /// The tracks of the `[camera]` fields that keys animate.
@@ -38,9 +40,10 @@ struct CameraTracks {
     height: Option<Track<1>>,
 }
 
-/// The tracks of one named sphere (`center`, `radius`) or mesh (`translate`, `rotate`).
+/// The tracks of one named sphere (`center`, `radius`), mesh or instance (`translate`,
+/// `rotate`).
 struct ObjectTracks {
-    /// Index into the document's `sphere` or `mesh` array.
+    /// Index into the document's `sphere`, `mesh` or `instance` array.
     index: usize,
     /// The element's name, for `-D sphere.NAME.*`.
     name: String,
@@ -48,7 +51,7 @@ struct ObjectTracks {
     point: Option<Track<3>>,
     /// `radius` (spheres; `rotate` for meshes is in `angles`).
     size: Option<Track<1>>,
-    /// `rotate` (meshes).
+    /// `rotate` (meshes, instances).
     angles: Option<Track<3>>,
 }
 
@@ -99,6 +102,7 @@ impl Animation {
             camera_keys: a.camera.iter().map(|k| k.frame).collect(),
             spheres: keys.spheres(doc)?,
             meshes: keys.meshes(doc)?,
+            instances: keys.instances(doc)?,
         }))
     }
 
@@ -107,7 +111,7 @@ impl Animation {
         self.frame
     }
 
-    /// Writes the animated sphere and mesh fields at the frame into `doc` (the document
+    /// Writes the animated sphere, mesh and instance fields at the frame into `doc` (the document
     /// [`Animation::new`] checked).
     pub(super) fn pose_objects(&self, doc: &mut SceneDoc) {
         let f = self.frame.number();
@@ -121,6 +125,12 @@ impl Animation {
             if let Some(m) = doc.mesh.get_mut(t.index) {
                 m.translate = t.point.as_ref().map(|p| p.sample(f)).or(m.translate);
                 m.rotate = t.angles.as_ref().map(|r| r.sample(f)).or(m.rotate);
+            }
+        }
+        for t in &self.instances {
+            if let Some(d) = doc.instance.get_mut(t.index) {
+                d.translate = t.point.as_ref().map(|p| p.sample(f)).or(d.translate);
+                d.rotate = t.angles.as_ref().map(|r| r.sample(f)).or(d.rotate);
             }
         }
     }
@@ -178,6 +188,10 @@ impl Animation {
                         || (field == "radius" && t.size.is_some())
                 }),
                 ["mesh", element, field] => find(&self.meshes, element).is_some_and(|t| {
+                    (field == "translate" && t.point.is_some())
+                        || (field == "rotate" && t.angles.is_some())
+                }),
+                ["instance", element, field] => find(&self.instances, element).is_some_and(|t| {
                     (field == "translate" && t.point.is_some())
                         || (field == "rotate" && t.angles.is_some())
                 }),
