@@ -63,6 +63,8 @@ fn load(
         up,
         auto_camera,
         frame,
+        // As `lumis render` without --flatten-instances.
+        flatten_instances: false,
     };
     let loaded = py.detach(|| lumis_io::formats::load_with_overrides(&path, &options, &overrides));
     let scene = loaded.map_err(|e| errors::scene_error(&e))?;
