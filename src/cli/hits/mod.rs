@@ -156,6 +156,15 @@ pub fn run(args: &HitsArgs) -> Result<()> {
         stage_rows(&mut staged, path, &spawn_rows(&world, &rays[..]))?;
     }
     if let Some(path) = &args.triangles_out {
+        let instances = world.scene().geometry().instances().len();
+        if instances > 0 {
+            // The rows are the scene's own world-space triangles; an instance is one primitive
+            // whose triangles live in its prototype.
+            eprintln!(
+                "warning: --triangles-out: the triangles of {instances} instances are not \
+                 written; add --flatten-instances to write every placement's"
+            );
+        }
         stage_rows(&mut staged, path, &triangle_rows(world.scene()))?;
     }
     if let Some(path) = &args.spheres_out {
