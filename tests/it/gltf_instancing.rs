@@ -258,3 +258,40 @@ fn gpu_instances_follow_their_quantised_and_float_rotations() {
         ],
     );
 }
+
+#[test]
+fn info_prints_instance_counts_and_the_flag_flattens_them() {
+    let info = |flags: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lumis"))
+            .arg("info")
+            .arg(asset("gpu_instancing.gltf"))
+            .args(flags)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let instanced = info(&[]);
+    assert!(
+        instanced.contains("instances: 58 of 1 prototypes (24 primitives in the prototypes)"),
+        "{instanced}"
+    );
+    assert!(
+        instanced.contains("objects: 116 (0 spheres, 0 meshes"),
+        "{instanced}"
+    );
+    let flat = info(&["--flatten-instances"]);
+    assert!(!flat.contains("instances:"), "{flat}");
+    assert!(
+        flat.contains("objects: 116 (0 spheres, 116 meshes with 1392 triangles"),
+        "{flat}"
+    );
+    // Without a model file the flag has nothing to act on.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lumis"))
+        .args(["render", "--flatten-instances", "--quiet"])
+        .current_dir(tempfile::tempdir().unwrap().path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--flatten-instances need a model file"));
+}
