@@ -28,6 +28,11 @@ enum Command {
     Info {
         /// Scene or model file.
         file: PathBuf,
+        /// glTF files: draw every placement of a mesh as its own world-space copy (also each
+        /// EXT_mesh_gpu_instancing instance) instead of making a mesh placed twice or more one
+        /// prototype with an instance per placement. Objects keep their names either way.
+        #[arg(long)]
+        flatten_instances: bool,
     },
     /// Trace a batch of rays from an .npy file and write one hit record per ray (for
     /// cross-checks against other tracers).
@@ -41,7 +46,10 @@ fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
         Some(Command::Render(args)) => render::run(args),
-        Some(Command::Info { file }) => info::run(file),
+        Some(Command::Info {
+            file,
+            flatten_instances,
+        }) => info::run(file, *flatten_instances),
         Some(Command::Hits(args)) => hits::run(args),
         Some(Command::Merge(args)) => merge::run(args),
         None => render::run(&cli.render),

@@ -355,6 +355,7 @@ def load(
     up: Optional[str] = None,
     auto_camera: bool = False,
     frame: Optional[int] = None,
+    flatten_instances: bool = False,
     **overrides: Any,
 ) -> Scene:
     """Loads a scene file (`.toml`, `.scn`, `.obj`, `.gltf`, `.glb`), as `lumis render` does.
@@ -366,14 +367,16 @@ def load(
     string. TOML scenes take any key of their schema, other formats only `render.*` keys.
 
     `gltf_scene`, `camera` (glTF), `up` ("y" or "z") and `auto_camera` (glTF and OBJ) and
-    `frame` (TOML scenes with an `[animation]`) are `lumis render`'s `--gltf-scene`,
-    `--camera`, `--up`, `--auto-camera` and `--frame`.
+    `frame` (TOML scenes with an `[animation]`) and `flatten_instances` (glTF) are
+    `lumis render`'s `--gltf-scene`, `--camera`, `--up`, `--auto-camera`, `--frame` and
+    `--flatten-instances` (`Scene.triangles()` holds only flattened triangles, not those of
+    instances).
 
     Raises `SceneError` (a `ValueError`) with the message `lumis` prints after `error: ` when
     the file, a file it references or an override is bad.
     """
     inner = _lumis.load(
         os.fspath(path), define_strings(defines, overrides),
-        gltf_scene, camera, up, auto_camera, frame,
+        gltf_scene, camera, up, auto_camera, frame, flatten_instances,
     )
     return Scene(inner)

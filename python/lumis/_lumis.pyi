@@ -48,4 +48,5 @@ def load(
     up: Optional[str] = None,
     auto_camera: bool = False,
     frame: Optional[int] = None,
+    flatten_instances: bool = False,
 ) -> Scene: ...

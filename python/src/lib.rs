@@ -25,7 +25,7 @@ pub use errors::{RayError, SceneError};
 /// (`"KEY=VALUE"` strings, applied in order) and the model-file options of `lumis render`.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-#[pyo3(signature = (path, defines=Vec::new(), gltf_scene=None, camera=None, up=None, auto_camera=false, frame=None))]
+#[pyo3(signature = (path, defines=Vec::new(), gltf_scene=None, camera=None, up=None, auto_camera=false, frame=None, flatten_instances=false))]
 fn load(
     py: Python<'_>,
     path: std::path::PathBuf,
@@ -35,6 +35,7 @@ fn load(
     up: Option<&str>,
     auto_camera: bool,
     frame: Option<u32>,
+    flatten_instances: bool,
 ) -> PyResult<scene::PyScene> {
     let overrides = defines
         .iter()
@@ -63,6 +64,7 @@ fn load(
         up,
         auto_camera,
         frame,
+        flatten_instances,
     };
     let loaded = py.detach(|| lumis_io::formats::load_with_overrides(&path, &options, &overrides));
     let scene = loaded.map_err(|e| errors::scene_error(&e))?;

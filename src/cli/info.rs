@@ -7,9 +7,13 @@ use lumis_core::scene::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// Loads `path` and prints its contents.
-pub fn run(path: &Path) -> Result<()> {
-    let scene = lumis_io::formats::load(path)?;
+/// Loads `path` (every placement flattened with `flatten_instances`) and prints its contents.
+pub fn run(path: &Path, flatten_instances: bool) -> Result<()> {
+    let options = lumis_io::formats::LoadOptions {
+        flatten_instances,
+        ..Default::default()
+    };
+    let scene = lumis_io::formats::load_with(path, &options)?;
     print!("{}", describe(path, &scene));
     Ok(())
 }
@@ -30,6 +34,21 @@ fn describe(path: &Path, scene: &Scene) -> String {
         triangles,
         g.prims().len()
     );
+    if g.has_instances() {
+        // The counts above are the scene's own (flattened) geometry; instances add theirs.
+        let inner: usize = g
+            .prototypes()
+            .iter()
+            .map(|p| p.geometry().prims().len())
+            .sum();
+        let _ = writeln!(
+            s,
+            "instances: {} of {} prototypes ({} primitives in the prototypes)",
+            g.instances().len(),
+            g.prototypes().len(),
+            inner
+        );
+    }
     if b.is_empty() {
         let _ = writeln!(s, "bounds: empty");
     } else {

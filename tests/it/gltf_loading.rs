@@ -142,7 +142,12 @@ fn strips_and_fans_keep_front_faces_and_points_are_skipped_with_a_warning() {
 
 #[test]
 fn hierarchy_composes_parent_and_child_and_negative_scale_keeps_faces_outward() {
-    let s = load("hierarchy.gltf");
+    // Flattened, the two placements of the shared cube are world-space meshes to measure.
+    let options = LoadOptions {
+        flatten_instances: true,
+        ..LoadOptions::default()
+    };
+    let s = formats::load_with(&asset("hierarchy.gltf"), &options).unwrap();
     let names: Vec<&str> = s.objects().iter().map(|o| o.name.as_str()).collect();
     assert_eq!(names, ["stretched", "mirrored"]);
     let meshes = s.geometry().meshes();
@@ -155,10 +160,27 @@ fn hierarchy_composes_parent_and_child_and_negative_scale_keeps_faces_outward() 
 
 #[test]
 fn one_mesh_placed_by_three_nodes_makes_three_objects() {
+    // Three instances of one 12-triangle prototype, one top-level primitive each.
     let s = load("instancing.gltf");
     assert_eq!(s.objects().len(), 3);
-    assert_eq!(s.geometry().prims().len(), 36);
-    assert_bounds(s.geometry().bounds(), [-3.5, -0.5, -0.5], [3.5, 0.5, 0.5]);
+    assert_eq!(s.geometry().instances().len(), 3);
+    assert_eq!(s.geometry().prims().len(), 3);
+    assert_eq!(s.geometry().prototypes()[0].geometry().prims().len(), 12);
+    // Instance boxes are padded for the transform's rounding (a few 1e-5 here).
+    let b = s.geometry().bounds();
+    assert!(b.min.x <= -3.5 && b.min.x > -3.5001 && b.max.x >= 3.5 && b.max.x < 3.5001);
+    let options = LoadOptions {
+        flatten_instances: true,
+        ..LoadOptions::default()
+    };
+    let flat = formats::load_with(&asset("instancing.gltf"), &options).unwrap();
+    assert_eq!(flat.objects().len(), 3);
+    assert_eq!(flat.geometry().prims().len(), 36);
+    assert_bounds(
+        flat.geometry().bounds(),
+        [-3.5, -0.5, -0.5],
+        [3.5, 0.5, 0.5],
+    );
 }
 
 #[test]

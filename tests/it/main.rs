@@ -31,6 +31,8 @@ mod farm;
 mod frames;
 mod fuzz_regressions;
 mod gltf_bad_input;
+mod gltf_instancing;
+mod gltf_instancing_bad;
 mod gltf_loading;
 mod gltf_materials;
 mod gltf_views;

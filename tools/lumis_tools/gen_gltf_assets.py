@@ -15,7 +15,9 @@ Good files:
                     indices, 5 vertices = 3 triangles), all facing +Z; plus a POINTS primitive.
   hierarchy.gltf    parent (translation + 90 degree rotation about Y) with two cube children:
                     non-uniform scale [2, 1, 0.5] and negative scale [-1, 1, 1] (matrix form).
-  instancing.gltf   one cube mesh placed by three nodes at x = -3, 0, 3.
+  instancing.gltf   one cube mesh placed by three nodes at x = -3, 0, 3 (loaded as three
+                    instances of one prototype).
+  shared_meshes.gltf, gpu_instancing.gltf: instancing (see gltf_instancing_assets.py).
   no_normals.gltf   one triangle without NORMAL (flat shading).
   textured_quad.gltf + checker.png: a quad with TEXCOORD_0 and a base colour texture.
   lights_camera.gltf  a cube on a ground quad, a perspective camera (yfov 0.6, aspect 1.5) and
@@ -259,6 +261,9 @@ def main():
     lights_camera()
     materials()
     bad()
+    # Shared meshes and EXT_mesh_gpu_instancing: gltf_instancing_assets.py.
+    from . import gltf_instancing_assets
+    gltf_instancing_assets.generate(write)
     # Loader robustness, cameras and lights: gltf_view_assets.py.
     from . import gltf_view_assets
     gltf_view_assets.generate()

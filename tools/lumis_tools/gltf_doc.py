@@ -32,13 +32,15 @@ class Doc:
         self.j["bufferViews"].append(v)
         return len(self.j["bufferViews"]) - 1
 
-    def accessor(self, comp, kind, values, target=None, minmax=False):
-        fmt = {F32: "f", U8: "B", U16: "H", U32: "I"}[comp]
-        width = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}[kind]
+    def accessor(self, comp, kind, values, target=None, minmax=False, normalized=False):
+        fmt = {F32: "f", I8: "b", U8: "B", I16: "h", U16: "H", U32: "I"}[comp]
+        width = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}[kind]
         flat = [x for v in values for x in (v if width > 1 else [v])]
         data = struct.pack("<%d%s" % (len(flat), fmt), *flat)
         a = {"bufferView": self.view(data, target), "componentType": comp,
              "count": len(values), "type": kind}
+        if normalized:
+            a["normalized"] = True
         if minmax:
             a["min"] = [min(v[i] for v in values) for i in range(width)]
             a["max"] = [max(v[i] for v in values) for i in range(width)]

@@ -20,6 +20,11 @@ use std::time::Instant;
 pub struct HitsArgs {
     /// Scene file (.toml, .scn, .obj, .gltf or .glb).
     scene: PathBuf,
+    /// glTF files: draw every placement of a mesh as its own world-space copy (also each
+    /// EXT_mesh_gpu_instancing instance) instead of making a mesh placed twice or more one
+    /// prototype with an instance per placement. Objects keep their names either way.
+    #[arg(long)]
+    flatten_instances: bool,
     /// Input rays: float32 .npy of shape (N, 8): origin xyz, direction xyz, t_min, t_max.
     #[arg(long)]
     rays: PathBuf,
@@ -93,7 +98,15 @@ pub fn run(args: &HitsArgs) -> Result<()> {
     let outputs = planned_outputs(args)?;
     let start = Instant::now();
     // Every file read (the scene, what it references, the rays): no output may be one of them.
-    let (scene, mut inputs) = record_inputs(|| lumis_io::formats::load(&args.scene));
+    let (scene, mut inputs) = record_inputs(|| {
+        lumis_io::formats::load_with(
+            &args.scene,
+            &lumis_io::formats::LoadOptions {
+                flatten_instances: args.flatten_instances,
+                ..Default::default()
+            },
+        )
+    });
     let mut scene = scene?;
     args.accuracy.apply(scene.settings_mut())?;
     scene
@@ -149,6 +162,15 @@ pub fn run(args: &HitsArgs) -> Result<()> {
         stage_rows(&mut staged, path, &spawn_rows(&world, &rays[..]))?;
     }
     if let Some(path) = &args.triangles_out {
+        let instances = world.scene().geometry().instances().len();
+        if instances > 0 {
+            // The rows are the scene's own world-space triangles; an instance is one primitive
+            // whose triangles live in its prototype.
+            eprintln!(
+                "warning: --triangles-out: the triangles of {instances} instances are not \
+                 written; add --flatten-instances to write every placement's"
+            );
+        }
         stage_rows(&mut staged, path, &triangle_rows(world.scene()))?;
     }
     if let Some(path) = &args.spheres_out {

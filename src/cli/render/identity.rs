@@ -38,8 +38,14 @@ impl RenderArgs {
         } else {
             "the built-in default scene"
         };
+        // Only when given: renders without it keep the identity they always had.
+        let flattened = if self.flatten_instances {
+            "flatten instances: true\n"
+        } else {
+            ""
+        };
         Ok(format!(
-            "source: {source}\ndefines: {:?}\ngltf scene: {:?}\ncamera: {:?}\nauto camera: {}\nup: {:?}\n",
+            "source: {source}\ndefines: {:?}\ngltf scene: {:?}\ncamera: {:?}\nauto camera: {}\nup: {:?}\n{flattened}",
             self.defines()?,
             self.gltf_scene,
             self.camera,

@@ -79,6 +79,11 @@ pub struct RenderArgs {
     /// glTF's convention).
     #[arg(long, value_enum, value_name = "AXIS")]
     up: Option<UpArg>,
+    /// glTF files: draw every placement of a mesh as its own world-space copy (also each
+    /// EXT_mesh_gpu_instancing instance) instead of making a mesh placed twice or more one
+    /// prototype with an instance per placement. Objects keep their names either way.
+    #[arg(long)]
+    flatten_instances: bool,
     /// Exposure in stops: linear colour x 2^EV before the EXR and the PNG are written
     /// (recorded in the EXR header as lumis/exposure). Default: the scene's `exposure`; for
     /// glTF and OBJ files automatic (a high percentile of the model's luminance to 0.8).
@@ -147,6 +152,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 up: args.up.map(UpAxis::from).unwrap_or_default(),
                 auto_camera: args.auto_camera,
                 frame: args.frame.frame(),
+                flatten_instances: args.flatten_instances,
             },
             defines,
         )
@@ -154,9 +160,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         None if args.gltf_scene.is_some()
             || args.camera.is_some()
             || args.up.is_some()
-            || args.auto_camera =>
+            || args.auto_camera
+            || args.flatten_instances =>
         {
-            bail!("--gltf-scene, --camera, --up and --auto-camera need a model file")
+            bail!(
+                "--gltf-scene, --camera, --up, --auto-camera and --flatten-instances need a \
+                 model file"
+            )
         }
         None => lumis_io::formats::default_scene_at(defines, args.frame.frame())
             .context("loading the built-in default scene"),

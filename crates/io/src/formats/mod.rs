@@ -47,6 +47,11 @@ pub struct LoadOptions {
     /// The frame of a TOML scene's `[animation]` to pose it at (`--frame`); `None`: frame 0
     /// of an animated scene. Other formats have no frames (glTF animations are not read).
     pub frame: Option<u32>,
+    /// Draw every placement of a mesh as its own world-space copy (`--flatten-instances`)
+    /// instead of making meshes placed twice or more, and `EXT_mesh_gpu_instancing` nodes,
+    /// instances of one prototype. Only glTF files make instances; the other formats are
+    /// flat already and read it as a no-op.
+    pub flatten_instances: bool,
 }
 
 impl LoadOptions {
@@ -54,8 +59,16 @@ impl LoadOptions {
     fn is_frame_only(&self) -> bool {
         Self {
             frame: None,
-            ..*self
+            ..self.without_flattening()
         } == Self::default()
+    }
+
+    /// These options less `flatten_instances`, which every format accepts.
+    fn without_flattening(&self) -> Self {
+        Self {
+            flatten_instances: false,
+            ..*self
+        }
     }
 }
 
@@ -118,7 +131,7 @@ fn load_by_extension(path: &Path, options: &LoadOptions) -> Result<Scene, SceneE
         Some("obj") if options.scene.is_none() && options.camera.is_none() => {
             obj::load_obj_scene(path, options)
         }
-        _ if *options != LoadOptions::default() => Err(SceneError::invalid(
+        _ if options.without_flattening() != LoadOptions::default() => Err(SceneError::invalid(
             path,
             "options",
             "a scene or camera index (--gltf-scene, --camera) applies to glTF files only, an \

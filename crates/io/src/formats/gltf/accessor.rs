@@ -22,6 +22,11 @@ pub(super) enum Allowed {
     TexCoord,
     /// COLOR_n: float, or normalized unsigned byte / short.
     Color,
+    /// `EXT_mesh_gpu_instancing` TRANSLATION and SCALE: float only (lumis does not read the
+    /// quantised forms `KHR_mesh_quantization` would allow there).
+    Float,
+    /// `EXT_mesh_gpu_instancing` ROTATION: float, or normalized signed byte / short.
+    Rotation,
 }
 
 impl Allowed {
@@ -30,7 +35,7 @@ impl Allowed {
         match (self, t) {
             (_, F32) => true,
             (Allowed::Position | Allowed::TexCoord, I8 | U8 | I16 | U16) => true,
-            (Allowed::Direction, I8 | I16) => normalized,
+            (Allowed::Direction | Allowed::Rotation, I8 | I16) => normalized,
             (Allowed::Color, U8 | U16) => normalized,
             _ => false,
         }
@@ -43,6 +48,8 @@ impl Allowed {
             }
             Allowed::Direction => "FLOAT, or normalized BYTE or SHORT (KHR_mesh_quantization)",
             Allowed::Color => "FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT",
+            Allowed::Float => "FLOAT",
+            Allowed::Rotation => "FLOAT, or normalized BYTE or SHORT (KHR_mesh_quantization)",
         }
     }
 }

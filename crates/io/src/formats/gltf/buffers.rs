@@ -21,6 +21,7 @@ pub(super) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_mesh_quantization",
     "KHR_texture_transform",
+    "EXT_mesh_gpu_instancing",
 ];
 
 /// Parses a .gltf (JSON) or .glb file, refuses unsupported required extensions, and validates
@@ -83,7 +84,7 @@ pub(super) fn parse(
     json.extensions_required.retain(|e| {
         !matches!(
             e.as_str(),
-            "KHR_mesh_quantization" | "KHR_texture_transform"
+            "KHR_mesh_quantization" | "KHR_texture_transform" | "EXT_mesh_gpu_instancing"
         )
     });
     // gltf-json's validation indexes the POSITION accessor before checking that it exists.

@@ -286,6 +286,7 @@ const KNOWN: &[&str] = &[
     "KHR_materials_clearcoat",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
+    "EXT_mesh_gpu_instancing",
 ];
 
 /// Warnings naming every entry of `extensionsUsed` lumis does not read, but material ones,

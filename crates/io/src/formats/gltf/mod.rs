@@ -16,20 +16,20 @@
 mod accessor;
 mod buffers;
 mod checks;
+mod gpu_instancing;
 mod lenient;
 mod materials;
 mod nodes;
+mod parts;
+mod placements;
 mod primitives;
 mod tangents;
 mod textures;
 
-use std::collections::HashMap;
-use std::collections::hash_map::Entry;
 use std::path::Path;
 
 use super::{LoadOptions, Resolver, SceneError, read_file, read_file_bytes};
 use crate::files::guard::guarded;
-use lumis_core::geometry::Mesh;
 use lumis_core::scene::{Scene, SceneBuilder, default_rig, framing_camera};
 
 /// Loads the `.gltf` or `.glb` file at `path`; external buffers are read from disk relative to
@@ -88,11 +88,6 @@ fn load_inner(
             )
         })
         .collect();
-    let name_of = |index: Option<usize>| match index {
-        Some(i) => material_names[i].clone(),
-        // The glTF specification's "default material" of primitives without one.
-        None => "default".to_string(),
-    };
     let material_ids: Vec<u32> = converted
         .iter()
         .zip(&material_names)
@@ -100,73 +95,26 @@ fn load_inner(
         .collect();
     warnings.extend(images.unused(&doc));
     warnings.extend(materials::unused_extensions(&doc, origin));
-    let fallback = materials::Converted::default_material();
-    // Materials of meshes with vertex colours, by glTF material (`None`: the default).
-    let mut colour_variants: HashMap<Option<usize>, u32> = HashMap::new();
-    let mut default_material = None;
-    // Object-space meshes by (mesh, primitive), read once however many nodes instance them.
-    let mut cache: HashMap<(usize, usize), Option<Mesh>> = HashMap::new();
+    let mut parts = parts::Parts::new(&converted, &material_ids, &material_names);
+    let mut plan = placements::Plan::new(
+        &placed,
+        &doc,
+        &data,
+        origin,
+        options.flatten_instances,
+        &mut warnings,
+    )?;
     let mut cameras = Vec::new();
     let mut file_has_lights = false;
 
-    for Placed { node, world } in &placed {
+    for p in &placed {
+        let Placed { node, world } = p;
         let node_name = node
             .name()
             .map_or_else(|| format!("node{}", node.index()), str::to_string);
         if let Some(mesh) = node.mesh() {
-            if mesh.primitives().len() == 0 {
-                return Err(SceneError::invalid(
-                    origin,
-                    format!("meshes[{}]", mesh.index()),
-                    "has no primitives",
-                ));
-            }
-            for prim in mesh.primitives() {
-                if prim.get(&gltf::Semantic::Positions).is_none() {
-                    // Allowed by the specification, which asks that such primitives be skipped.
-                    warnings.push(format!(
-                        "{}: meshes[{}].primitives[{}]: no POSITION attribute; not drawn",
-                        origin.display(),
-                        mesh.index(),
-                        prim.index()
-                    ));
-                    continue;
-                }
-                let index = prim.material().index();
-                let conv = index.and_then(|i| converted.get(i)).unwrap_or(&fallback);
-                let object_mesh = match cache.entry((mesh.index(), prim.index())) {
-                    Entry::Occupied(e) => e.into_mut(),
-                    Entry::Vacant(e) => e.insert(primitives::primitive_mesh(
-                        &prim,
-                        mesh.index(),
-                        &data,
-                        origin,
-                        conv,
-                        &mut warnings,
-                    )?),
-                };
-                let Some(object_mesh) = object_mesh else {
-                    continue;
-                };
-                let coloured = object_mesh.attributes().is_some_and(|a| a.colors.is_some());
-                let material = match index {
-                    // Vertex colours vary the base colour over the surface.
-                    _ if coloured => *colour_variants.entry(index).or_insert_with(|| {
-                        // The same material of the file: the same matte.
-                        b.add_named_material(name_of(index), conv.with_vertex_colors())
-                    }),
-                    Some(i) => material_ids[i],
-                    None => *default_material.get_or_insert_with(|| {
-                        b.add_named_material(name_of(None), fallback.material.clone())
-                    }),
-                };
-                let name = if mesh.primitives().len() > 1 {
-                    format!("{node_name}/{}", prim.index())
-                } else {
-                    node_name.clone()
-                };
-                b.add_mesh(name, object_mesh.clone().transformed(world), material);
-            }
+            let drawn = parts.of(&mesh, &mut b, &data, origin, &mut warnings)?;
+            plan.draw(p, &node_name, mesh.index(), &drawn, &mut b, origin)?;
         }
         if let Some(light) = node.light() {
             file_has_lights = true;

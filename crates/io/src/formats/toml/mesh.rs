@@ -198,7 +198,13 @@ impl Loader<'_> {
     ) -> Result<Vec<MeshPart>, SceneError> {
         let path = resolve(self.origin, file);
         let bytes = self.read_asset(e, &path)?;
-        let model = load_gltf_bytes(&bytes, &path, self.resolver, &LoadOptions::default())
+        // Flattened: the objects are copied below as world-space meshes, one each (a TOML
+        // scene places no instances), so a mesh shared by nodes must come as copies too.
+        let options = LoadOptions {
+            flatten_instances: true,
+            ..LoadOptions::default()
+        };
+        let model = load_gltf_bytes(&bytes, &path, self.resolver, &options)
             .map_err(|err| self.asset_error(e, &path, err))?;
         for w in model.warnings() {
             self.builder.warn(w.clone());
