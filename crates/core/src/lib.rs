@@ -16,6 +16,7 @@ pub mod environment;
 pub mod film;
 pub mod geometry;
 mod huge_pages;
+pub mod instancing;
 pub mod integrator;
 pub mod light;
 pub mod material;

@@ -16,7 +16,6 @@ mod bsp;
 mod build;
 mod bvh;
 mod exhaustive;
-mod frame;
 pub(crate) mod leaves;
 mod packed;
 mod query;
@@ -29,7 +28,8 @@ mod wide;
 pub use all_hits::{AllHit, AllHits};
 pub use bsp::SplitRule;
 pub use bvh::{Bvh, Node};
-pub use frame::{Framing, Moved, NEAR_FACTOR, RayFrame};
+// The frame lives with the geometry, whose instances frame rays too; named here as ever.
+pub use crate::geometry::frame::{Framing, Moved, NEAR_FACTOR, RayFrame};
 pub use query::Traced;
 pub use segments::{PAPER_SEGMENT_MAX, SegmentParams};
 

@@ -27,10 +27,9 @@ use std::sync::Arc;
 
 use glam::{DAffine3, DMat3, DVec3};
 
+use super::frame::{Framing, RayFrame};
 use super::surface::rounded_with_error;
-use super::{Geometry, PrimHit, Primitive, SurfacePoint};
-use crate::accel::{Accel, AccelKind, BuildOptions, Framing, RayFrame, Traversal, TraversalStats};
-use crate::geometry::{Contact, HitAttributes, Precision, Touch};
+use super::{Contact, Geometry, HitAttributes, Precision, PrimHit, Primitive, SurfacePoint, Touch};
 use crate::math::{Aabb, Ray, Vec3, f32_down, f32_up};
 
 /// Relative growth of an instance's world box beyond the exact image of its prototype's box:
@@ -182,55 +181,26 @@ impl Placement {
     }
 }
 
-/// Shapes placed by instances: their own geometry and the hierarchy over it, shared by every
-/// placement (a prototype is never copied: instances hold its index, scenes share it by `Arc`).
-#[derive(Clone, Debug)]
-pub struct Prototype {
-    geometry: Arc<Geometry>,
-    accel: Arc<Accel>,
-    /// What `accel` was built as (rebuilt when a world asks for another).
-    built: (AccelKind, BuildOptions),
-    /// Bounds of the shapes (a mesh's are a pass over its vertices: once, not per placement).
-    bounds: Aabb,
-}
-
-impl Prototype {
-    /// A prototype over `geometry` (which must hold no instances: two levels), with the
-    /// default wide hierarchy until a world asks for another ([`Geometry::build_instances`]).
-    pub fn new(geometry: Geometry) -> Self {
-        assert!(
-            geometry.instances.is_empty(),
-            "a prototype holds shapes, not instances (two levels)"
-        );
-        let built = (AccelKind::Sah, BuildOptions::default());
-        let accel = Accel::build_for(built.0, &geometry, &built.1);
-        Self {
-            bounds: geometry.bounds(),
-            geometry: Arc::new(geometry),
-            accel: Arc::new(accel),
-            built,
-        }
-    }
-
-    /// The shapes.
-    pub fn geometry(&self) -> &Geometry {
-        &self.geometry
-    }
-
-    /// Bounds of the shapes, in object space.
-    pub fn bounds(&self) -> Aabb {
-        self.bounds
-    }
-
-    /// The hierarchy over them.
-    pub fn accel(&self) -> &Accel {
-        &self.accel
-    }
-
+/// What instances place: shapes with a hierarchy of their own, built once and shared by every
+/// placement. The geometry sees a prototype only through these queries (the hierarchies are
+/// the accelerators' business, above the geometry: `crate::instancing` builds them).
+pub trait PrototypeQueries: std::fmt::Debug + Send + Sync {
+    /// The shapes, in object space (their primitive indices are [`PrimHit::inner`]).
+    fn geometry(&self) -> &Geometry;
+    /// Bounds of the shapes.
+    fn bounds(&self) -> Aabb;
+    /// The nearest hit of object-space `ray` with the tests of `precision`: `t` on `ray`,
+    /// barycentrics, and the primitive in `inner`.
+    fn nearest(&self, ray: &Ray, precision: Precision) -> Option<PrimHit>;
+    /// Whether something blocks object-space `ray`.
+    fn blocks(&self, ray: &Ray, precision: Precision) -> bool;
+    /// Every crossing and graze of object-space `ray` (the all-hits query, seams resolved
+    /// inside the prototype): `t` on `ray`, the primitive in `inner`, and the graze flag.
+    fn all_hits(&self, ray: &Ray, precision: Precision) -> Vec<(PrimHit, bool)>;
     /// Bytes of the shapes and the hierarchy (held once however many instances place them).
-    pub fn bytes(&self) -> usize {
-        self.geometry.bytes() + self.accel.bytes()
-    }
+    fn bytes(&self) -> usize;
+    /// The concrete prototype, for the module that builds them.
+    fn as_any(&self) -> &dyn std::any::Any;
 }
 
 /// One placement of a prototype.
@@ -248,7 +218,7 @@ pub struct Instance {
 
 impl Geometry {
     /// Adds a prototype; returns its index for [`Geometry::add_instance`].
-    pub fn add_prototype(&mut self, prototype: Prototype) -> u32 {
+    pub fn add_prototype(&mut self, prototype: Arc<dyn PrototypeQueries>) -> u32 {
         self.prototypes.push(prototype);
         self.prototypes.len() as u32 - 1
     }
@@ -256,7 +226,7 @@ impl Geometry {
     /// Places prototype `prototype` (must exist) by `placement`; returns its primitive index.
     pub fn add_instance(&mut self, prototype: u32, placement: Placement) -> u32 {
         let proto = &self.prototypes[prototype as usize];
-        let bounds = placement.world_bounds(&proto.bounds);
+        let bounds = placement.world_bounds(&proto.bounds());
         self.any_instances = true;
         self.instances.push(Instance {
             prototype,
@@ -271,8 +241,13 @@ impl Geometry {
     }
 
     /// The prototypes instances place.
-    pub fn prototypes(&self) -> &[Prototype] {
+    pub fn prototypes(&self) -> &[Arc<dyn PrototypeQueries>] {
         &self.prototypes
+    }
+
+    /// The prototypes, to rebuild their hierarchies (`crate::instancing`).
+    pub(crate) fn prototypes_mut(&mut self) -> &mut [Arc<dyn PrototypeQueries>] {
+        &mut self.prototypes
     }
 
     /// The instances, by instance index.
@@ -286,33 +261,12 @@ impl Geometry {
         self.any_instances
     }
 
-    /// The build options the prototypes' hierarchies were last built with (`None` without
-    /// prototypes).
-    pub fn prototype_build(&self) -> Option<BuildOptions> {
-        self.prototypes.first().map(|p| p.built.1)
-    }
-
     /// The instance primitive `index` is, if it is one.
     #[inline]
     pub fn instance_of(&self, index: u32) -> Option<u32> {
         match self.prims[index as usize] {
             Primitive::Instance { instance } if self.any_instances => Some(instance),
             _ => None,
-        }
-    }
-
-    /// Rebuilds every prototype's hierarchy as `kind` with `opts` walked by `traversal`
-    /// (brute force over instances is brute force inside them too), where it was built
-    /// otherwise.
-    pub fn build_instances(&mut self, kind: AccelKind, opts: &BuildOptions, traversal: Traversal) {
-        for p in &mut self.prototypes {
-            if p.built != (kind, *opts) {
-                p.accel = Arc::new(Accel::build_for(kind, &p.geometry, opts));
-                p.built = (kind, *opts);
-            }
-            if p.accel.traversal() != traversal {
-                p.accel = Arc::new(Accel::clone(&p.accel).with_traversal(traversal));
-            }
         }
     }
 
@@ -333,7 +287,7 @@ impl Geometry {
                     ..*ray
                 };
                 // Empty, or NaN from a degenerate range: nothing in the box to find.
-                if !(clipped.t_min < clipped.t_max) {
+                if clipped.t_min.partial_cmp(&clipped.t_max) != Some(std::cmp::Ordering::Less) {
                     return None;
                 }
                 clipped
@@ -362,18 +316,9 @@ impl Geometry {
         precision: Precision,
     ) -> Option<PrimHit> {
         let (inst, framing, object) = self.instance_ray(instance, ray)?;
-        let proto = &self.prototypes[inst.prototype as usize];
-        let mut stats = TraversalStats::default();
-        let traced = proto
-            .accel
-            .trace_geometry(&proto.geometry, precision, &object, &mut stats)?;
-        let t = framing.caller_t(traced.t)?;
-        Self::in_instance_box(inst, &framing, ray, t).then_some(PrimHit {
-            t,
-            u: traced.hit.hit.u,
-            v: traced.hit.hit.v,
-            inner: traced.hit.prim,
-        })
+        let found = self.prototypes[inst.prototype as usize].nearest(&object, precision)?;
+        let t = framing.caller_t(found.t)?;
+        Self::in_instance_box(inst, &framing, ray, t).then_some(PrimHit { t, ..found })
     }
 
     /// Whether something of instance `instance` blocks `ray`: the prototype's any-hit query
@@ -387,11 +332,7 @@ impl Geometry {
         if !matches!(framing, Framing::AsGiven) {
             return self.intersect_instance(instance, ray, precision).is_some();
         }
-        let proto = &self.prototypes[inst.prototype as usize];
-        let mut stats = TraversalStats::default();
-        proto
-            .accel
-            .occluded_geometry(&proto.geometry, precision, &object, &mut stats)
+        self.prototypes[inst.prototype as usize].blocks(&object, precision)
     }
 
     /// The contacts of `ray` with instance `instance` for an all-hits query: the prototype's
@@ -407,12 +348,8 @@ impl Geometry {
         let Some((inst, framing, object)) = self.instance_ray(instance, ray) else {
             return;
         };
-        let proto = &self.prototypes[inst.prototype as usize];
-        let mut stats = TraversalStats::default();
-        let found = proto
-            .accel
-            .all_hits_geometry(&proto.geometry, precision, &object, &mut stats);
-        for h in found.hits {
+        let found = self.prototypes[inst.prototype as usize].all_hits(&object, precision);
+        for (h, graze) in found {
             let Some(t) = framing.caller_t(h.t) else {
                 continue;
             };
@@ -421,17 +358,8 @@ impl Geometry {
             }
             out.push(Contact {
                 prim: index,
-                hit: PrimHit {
-                    t,
-                    u: h.hit.u,
-                    v: h.hit.v,
-                    inner: h.prim,
-                },
-                touch: if h.graze {
-                    Touch::Graze
-                } else {
-                    Touch::Crossing
-                },
+                hit: PrimHit { t, ..h },
+                touch: if graze { Touch::Graze } else { Touch::Crossing },
             });
         }
     }
@@ -456,7 +384,7 @@ impl Geometry {
     ) -> SurfacePoint {
         let (inst, object, h) = self.object_hit(instance, ray, hit);
         let proto = &self.prototypes[inst.prototype as usize];
-        let s = proto.geometry.surface(hit.inner, &object, &h, with_uv);
+        let s = proto.geometry().surface(hit.inner, &object, &h, with_uv);
         let (p, p_error) = inst.placement.world_point(s.p, s.p_error);
         let ng = inst.placement.world_normal(s.ng);
         let ns = inst.placement.world_normal(s.ns);
@@ -473,7 +401,7 @@ impl Geometry {
     pub(super) fn instance_normal(&self, instance: u32, ray: &Ray, hit: &PrimHit) -> Vec3 {
         let (inst, object, h) = self.object_hit(instance, ray, hit);
         let proto = &self.prototypes[inst.prototype as usize];
-        let n = proto.geometry.geometric_normal(hit.inner, &object, &h);
+        let n = proto.geometry().geometric_normal(hit.inner, &object, &h);
         inst.placement.world_normal(n)
     }
 
@@ -486,7 +414,7 @@ impl Geometry {
     ) -> HitAttributes {
         let inst = &self.instances[instance as usize];
         let proto = &self.prototypes[inst.prototype as usize];
-        let mut a = proto.geometry.hit_attributes(inner, 0, s);
+        let mut a = proto.geometry().hit_attributes(inner, 0, s);
         a.tangent = a.tangent.map(|t| inst.placement.world_tangent(t));
         a
     }
@@ -496,7 +424,7 @@ impl Geometry {
         match self.prims[index as usize] {
             Primitive::Instance { instance } => {
                 let proto = &self.prototypes[self.instances[instance as usize].prototype as usize];
-                proto.geometry.prims[inner as usize]
+                proto.geometry().prims[inner as usize]
             }
             p => p,
         }

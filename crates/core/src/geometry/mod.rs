@@ -8,6 +8,7 @@ mod conditioning;
 mod crossing;
 pub(crate) mod edge_bound;
 mod exact;
+pub mod frame;
 mod instance;
 mod mesh;
 mod mesh_attributes;
@@ -20,7 +21,7 @@ pub(crate) mod twofloat;
 pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsilon};
 pub use crossing::{Contact, Seam, Touch};
 pub use exact::{cross_sign, orient2d, triangle_area_is_zero};
-pub use instance::{Instance, Placement, PlacementError, Prototype};
+pub use instance::{Instance, Placement, PlacementError, PrototypeQueries};
 pub use mesh::{Mesh, MeshError};
 pub use mesh_attributes::{AlphaTest, HitAttributes, MeshAttributes, SharedAlphaTest};
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
@@ -93,7 +94,7 @@ pub struct Geometry {
     /// Some mesh has an alpha test: lets intersection skip the look-up otherwise.
     any_alpha: bool,
     /// What instances place, and the placements.
-    prototypes: Vec<Prototype>,
+    prototypes: Vec<std::sync::Arc<dyn PrototypeQueries>>,
     instances: Vec<Instance>,
     /// Some primitive is an instance: lets hit records skip the look-up otherwise.
     any_instances: bool,
@@ -130,7 +131,7 @@ impl Geometry {
         std::mem::size_of_val(self.spheres.as_slice())
             + self.meshes.iter().map(Mesh::bytes).sum::<usize>()
             + std::mem::size_of_val(self.prims.as_slice())
-            + self.prototypes.iter().map(Prototype::bytes).sum::<usize>()
+            + self.prototypes.iter().map(|p| p.bytes()).sum::<usize>()
             + std::mem::size_of_val(self.instances.as_slice())
     }
 

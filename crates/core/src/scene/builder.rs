@@ -5,7 +5,8 @@ use super::domain;
 use super::limits::{self, LimitError};
 use super::{Frame, Object, Scene, Settings};
 use crate::camera::Camera;
-use crate::geometry::{Geometry, Mesh, Placement, Prototype, Sphere};
+use crate::geometry::{Geometry, Mesh, Placement, Sphere};
+use crate::instancing::Prototype;
 use crate::light::Light;
 use crate::material::Material;
 
@@ -216,7 +217,7 @@ impl SceneBuilder {
         }
         self.prototype_parts.push(names);
         self.prototype_starts.push(starts);
-        self.geometry.add_prototype(Prototype::new(g))
+        self.geometry.add_prototype(Prototype::shared(g))
     }
 
     /// Places prototype `prototype` (must exist) by `to_world` as instance `name`: one object

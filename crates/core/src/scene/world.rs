@@ -11,6 +11,7 @@ use crate::accel::{
 use crate::camera::Camera;
 use crate::geometry::triangle::unit_face_normal;
 use crate::geometry::with_prim_test;
+use crate::instancing::{build_instances, prototype_build};
 use crate::math::{Ray, Vec3};
 
 /// A scene and the accelerator over its primitives: what renders and ray queries take.
@@ -25,9 +26,7 @@ impl World {
     pub fn build(mut scene: Scene, kind: AccelKind, opts: &BuildOptions) -> Self {
         // Two levels of one kind: brute force over instances is brute force inside them.
         if scene.geometry().has_instances() {
-            scene
-                .geometry_mut()
-                .build_instances(kind, opts, Traversal::Ordered);
+            build_instances(scene.geometry_mut(), kind, opts, Traversal::Ordered);
         }
         let accel = Accel::build_for(kind, scene.geometry(), opts);
         Self { scene, accel }
@@ -38,11 +37,8 @@ impl World {
     pub fn with_traversal(mut self, traversal: Traversal) -> Self {
         if self.scene.geometry().has_instances() {
             let kind = self.accel.kind();
-            let built = self.scene.geometry().prototype_build();
-            if let Some(opts) = built {
-                self.scene
-                    .geometry_mut()
-                    .build_instances(kind, &opts, traversal);
+            if let Some(opts) = prototype_build(self.scene.geometry()) {
+                build_instances(self.scene.geometry_mut(), kind, &opts, traversal);
             }
         }
         Self {
