@@ -123,6 +123,10 @@ def parse_args(argv=None):
     p.add_argument("--subdivide", type=int, default=0, metavar="N",
                    help="Loop-subdivide the model N times (trimesh) into a temporary GLB first; "
                    "default 0")
+    p.add_argument("--lumis-instance", action="store_true",
+                   help="lumis traces the model as one instance (a TOML `[[instance]]` of it, "
+                   "identity placement: two levels) against Embree's flat mesh; the per-ray "
+                   "cost of entering an instance")
     p.add_argument("--seed", type=int, default=1, help="seed of the incoherent rays; default 1")
     p.add_argument("--lumis-args", default="", metavar="ARGS",
                    help='extra arguments for `lumis hits`, e.g. "--accel bsp" (default: its '
@@ -154,7 +158,7 @@ def parse_args(argv=None):
 # Model and rays
 
 
-def prepare_model(model: Path, subdivide: int, tmp: Path):
+def prepare_model(model: Path, subdivide: int, tmp: Path, instance: bool = False):
     """(path lumis loads, float32 (M, 3, 3) triangles for Embree, description)."""
     model = model.resolve()
     geometry = load_geometry(model)
@@ -182,6 +186,14 @@ def prepare_model(model: Path, subdivide: int, tmp: Path):
     elif model.suffix.lower() == ".m":
         lumis_scene = tmp / f"{model.stem}.toml"
         lumis_scene.write_text(f"[[mesh]]\nfile = {json.dumps(str(model))}\n")
+    if instance:
+        if lumis_scene.suffix.lower() in (".toml", ".scn"):
+            raise exitcodes.SetupError("--lumis-instance takes a model file, not a scene")
+        path = lumis_scene
+        lumis_scene = tmp / f"{model.stem}.instance.toml"
+        lumis_scene.write_text(f"[[mesh]]\nname = \"model\"\nfile = {json.dumps(str(path))}\n"
+                               "[[instance]]\nof = \"model\"\n")
+        what += "; lumis: one instance of it"
     tris = np.ascontiguousarray(geometry.triangles, np.float32)
     return lumis_scene, tris, what
 
@@ -309,7 +321,8 @@ def main(argv=None):
 
     with tempfile.TemporaryDirectory(prefix="bench-embree-") as tmp:
         tmp = Path(tmp)
-        lumis_scene, tris, what = prepare_model(args.model, args.subdivide, tmp)
+        lumis_scene, tris, what = prepare_model(args.model, args.subdivide, tmp,
+                                               args.lumis_instance)
         print(f"model: {what}", flush=True)
         sets = ray_sets(tris, args.rays, args.seed, args.camera_size)
 

@@ -229,3 +229,74 @@ fn the_png_preview_is_the_single_renders() {
         }
     }
 }
+
+/// Instances (issue 28): the instancing example with its id layers (`id.instance` among them)
+/// and Cryptomatte, the glTF `EXT_mesh_gpu_instancing` asset, and a frame of an animation that
+/// moves an instance: every merge is the single render's bytes.
+#[test]
+fn instances_tiles_and_a_frame_that_moves_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = root().join("scenes/instances.toml");
+    let args = [
+        "--width",
+        "64",
+        "--height",
+        "36",
+        "--cryptomatte",
+        scene.to_str().unwrap(),
+    ];
+    assert_identical(dir.path(), "instances", &[2, 5], &args);
+    let gltf = root().join("assets/gltf/gpu_instancing.gltf");
+    let args = ["--width", "48", "--height", "24", gltf.to_str().unwrap()];
+    assert_identical(dir.path(), "gpu_instancing", &[3], &args);
+    let moving = dir.path().join("moving.toml");
+    std::fs::write(
+        &moving,
+        r#"
+[camera]
+position = [0.0, 1.0, 6.0]
+look_at = [0.0, 0.5, 0.0]
+fov = 40.0
+
+[[light]]
+type = "point"
+position = [2.0, 5.0, 4.0]
+intensity = 60.0
+
+[[sphere]]
+name = "ball"
+center = [0.0, 0.0, 0.0]
+radius = 0.5
+
+[[instance]]
+of = "ball"
+name = "mover"
+translate = [-1.5, 0.5, 0.0]
+scale = [1.0, 0.5, 1.0]
+
+[animation]
+frames = 10
+
+[[animation.instance]]
+name = "mover"
+frame = 0
+translate = [-1.5, 0.5, 0.0]
+
+[[animation.instance]]
+name = "mover"
+frame = 9
+translate = [1.5, 0.5, 0.0]
+"#,
+    )
+    .unwrap();
+    let args = [
+        "--width",
+        "40",
+        "--height",
+        "24",
+        "--frame",
+        "4",
+        moving.to_str().unwrap(),
+    ];
+    assert_identical(dir.path(), "moving", &[3], &args);
+}

@@ -25,161 +25,13 @@
 
 use std::sync::Arc;
 
-use glam::{DAffine3, DMat3, DVec3};
-
 use super::frame::{Framing, RayFrame};
-use super::surface::rounded_with_error;
-use super::{Contact, Geometry, HitAttributes, Precision, PrimHit, Primitive, SurfacePoint, Touch};
-use crate::math::{Aabb, Ray, Vec3, f32_down, f32_up};
-
-/// Relative growth of an instance's world box beyond the exact image of its prototype's box:
-/// covers the object-space ray's rounding (half an ulp of origin and direction, carried
-/// through a placement of moderate condition), which moves the tested point by far less.
-const BOX_GROWTH: f64 = 1.0 / (1u64 << 18) as f64;
-
-/// Why a placement cannot be used.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum PlacementError {
-    /// A matrix or translation entry is NaN or infinite.
-    #[error("the transform has a non-finite entry")]
-    NonFinite,
-    /// The linear part cannot be inverted (a zero scale, or collapsed axes).
-    #[error(
-        "the transform is singular (determinant {determinant:e}): it flattens the mesh and has no inverse"
-    )]
-    Singular {
-        /// The linear part's determinant.
-        determinant: f64,
-    },
-}
-
-/// An affine placement of object space into world space, with what its queries need: the
-/// inverse for rays, the inverse transpose for normals.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Placement {
-    to_world: DAffine3,
-    to_object: DAffine3,
-    /// Inverse transpose of the linear part, for normals.
-    normals: DMat3,
-    /// The determinant is negative: the placement mirrors.
-    mirrors: bool,
-}
-
-impl Placement {
-    /// The placement `to_world` (object space to world space), refused when it is not finite
-    /// or not invertible in `f64` (a scale of 1e-6 on every axis is fine; zero is not).
-    pub fn new(to_world: DAffine3) -> Result<Self, PlacementError> {
-        if !to_world.is_finite() {
-            return Err(PlacementError::NonFinite);
-        }
-        let determinant = to_world.matrix3.determinant();
-        let to_object = to_world.inverse();
-        if determinant == 0.0 || !to_object.is_finite() {
-            return Err(PlacementError::Singular { determinant });
-        }
-        Ok(Self {
-            to_world,
-            to_object,
-            normals: to_object.matrix3.transpose(),
-            mirrors: determinant < 0.0,
-        })
-    }
-
-    /// Object space to world space.
-    pub fn to_world(&self) -> DAffine3 {
-        self.to_world
-    }
-
-    /// True when the placement mirrors (negative determinant).
-    pub fn mirrors(&self) -> bool {
-        self.mirrors
-    }
-
-    /// The object-space ray of world ray `ray`: origin and direction transformed in `f64` and
-    /// rounded once; the same interval. `None` when the image is not a usable ray (it
-    /// overflows `f32`, or the direction rounds to zero).
-    #[inline]
-    pub fn object_ray(&self, ray: &Ray) -> Option<Ray> {
-        let origin = self
-            .to_object
-            .transform_point3(ray.origin.as_dvec3())
-            .as_vec3();
-        let dir = self
-            .to_object
-            .transform_vector3(ray.dir.as_dvec3())
-            .as_vec3();
-        (origin.is_finite() && dir.is_finite() && dir != Vec3::ZERO).then_some(Ray {
-            origin,
-            dir,
-            ..*ray
-        })
-    }
-
-    /// The world box around the object-space box `b`: the exact image of its corners, rounded
-    /// outwards and grown by [`BOX_GROWTH`] of its size and position.
-    pub fn world_bounds(&self, b: &Aabb) -> Aabb {
-        if b.is_empty() {
-            return Aabb::EMPTY;
-        }
-        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for k in 0..8 {
-            let pick =
-                |bit: usize, min: f32, max: f32| (if k & bit == 0 { min } else { max }) as f64;
-            let corner = DVec3::new(
-                pick(1, b.min.x, b.max.x),
-                pick(2, b.min.y, b.max.y),
-                pick(4, b.min.z, b.max.z),
-            );
-            let w = self.to_world.transform_point3(corner);
-            lo = lo.min(w);
-            hi = hi.max(w);
-        }
-        let grow = ((hi - lo).max_element() + lo.abs().max(hi.abs()).max_element()) * BOX_GROWTH;
-        Aabb {
-            min: (lo - grow).to_array().map(f32_down).into(),
-            max: (hi + grow).to_array().map(f32_up).into(),
-        }
-    }
-
-    /// A world point and its error bound from an object-space point and its bound.
-    pub fn world_point(&self, p: Vec3, p_error: Vec3) -> (Vec3, Vec3) {
-        let exact = self.to_world.transform_point3(p.as_dvec3());
-        let m = self.to_world.matrix3;
-        let abs = DMat3::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs());
-        // The object point's own error, carried through the linear part, and the f64
-        // evaluation's rounding (a few ulps of the terms summed).
-        let carried = abs * p_error.as_dvec3();
-        let terms = abs * p.as_dvec3().abs() + self.to_world.translation.abs();
-        rounded_with_error(
-            exact,
-            carried * (1.0 + 1e-15) + terms * (8.0 * f64::EPSILON),
-        )
-    }
-
-    /// A unit world normal from an object-space one (inverse transpose; the orientation the
-    /// flattened mesh gets).
-    pub fn world_normal(&self, n: Vec3) -> Vec3 {
-        let w = self.normals * n.as_dvec3();
-        let len = w.length();
-        if len > 0.0 && len.is_finite() {
-            (w / len).as_vec3()
-        } else {
-            n
-        }
-    }
-
-    /// A unit world tangent with its handedness (`w`) from an object-space one.
-    fn world_tangent(&self, t: crate::math::Vec4) -> crate::math::Vec4 {
-        let d = self.to_world.matrix3 * t.truncate().as_dvec3();
-        let len = d.length();
-        let d = if len > 0.0 {
-            (d / len).as_vec3()
-        } else {
-            Vec3::ZERO
-        };
-        d.extend(if self.mirrors { -t.w } else { t.w })
-    }
-}
+use super::placement::Placement;
+use super::{
+    Contact, Geometry, HitAttributes, Precision, PrimHit, Primitive, SurfacePoint, Touch,
+    WatertightRay,
+};
+use crate::math::{Aabb, Ray, Vec3};
 
 /// What instances place: shapes with a hierarchy of their own, built once and shared by every
 /// placement. The geometry sees a prototype only through these queries (the hierarchies are
@@ -217,6 +69,49 @@ pub struct Instance {
 }
 
 impl Geometry {
+    /// Whether primitive `index` blocks `ray` with the test `precision` selects: the verdict
+    /// of [`Geometry::intersect_with`], by an any-hit query inside an instance.
+    #[inline]
+    pub fn blocks(&self, precision: Precision, index: u32, ray: &Ray, wr: &WatertightRay) -> bool {
+        match self.prims[index as usize] {
+            Primitive::Instance { instance } => self.instance_blocks(instance, ray, precision),
+            _ => self.intersect_with(precision, index, ray, wr).is_some(),
+        }
+    }
+
+    /// [`Geometry::intersect`] of a sphere or an instance, which need no shear.
+    #[inline]
+    pub(crate) fn intersect_alone(&self, index: u32, ray: &Ray) -> Option<PrimHit> {
+        match self.prims[index as usize] {
+            Primitive::Instance { instance } => {
+                self.intersect_instance(instance, ray, Precision::Watertight)
+            }
+            Primitive::Sphere { sphere } => {
+                self.spheres[sphere as usize]
+                    .intersect(ray)
+                    .map(|t| PrimHit {
+                        t,
+                        u: 0.0,
+                        v: 0.0,
+                        inner: 0,
+                    })
+            }
+            // Not called for triangles (they go with their leaf's shear); answered all the same.
+            Primitive::Triangle { .. } => self.intersect(index, ray, &WatertightRay::new(ray.dir)),
+        }
+    }
+
+    /// [`Geometry::blocks`] of a sphere or an instance with the watertight tests.
+    #[inline]
+    pub(crate) fn blocks_alone(&self, index: u32, ray: &Ray) -> bool {
+        match self.prims[index as usize] {
+            Primitive::Instance { instance } => {
+                self.instance_blocks(instance, ray, Precision::Watertight)
+            }
+            _ => self.intersect_alone(index, ray).is_some(),
+        }
+    }
+
     /// Adds a prototype; returns its index for [`Geometry::add_instance`].
     pub fn add_prototype(&mut self, prototype: Arc<dyn PrototypeQueries>) -> u32 {
         self.prototypes.push(prototype);

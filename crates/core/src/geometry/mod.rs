@@ -12,6 +12,7 @@ pub mod frame;
 mod instance;
 mod mesh;
 mod mesh_attributes;
+mod placement;
 mod polygon;
 mod sphere;
 mod surface;
@@ -21,9 +22,10 @@ pub(crate) mod twofloat;
 pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsilon};
 pub use crossing::{Contact, Seam, Touch};
 pub use exact::{cross_sign, orient2d, triangle_area_is_zero};
-pub use instance::{Instance, Placement, PlacementError, PrototypeQueries};
+pub use instance::{Instance, PrototypeQueries};
 pub use mesh::{Mesh, MeshError};
 pub use mesh_attributes::{AlphaTest, HitAttributes, MeshAttributes, SharedAlphaTest};
+pub use placement::{Placement, PlacementError};
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
 pub use sphere::Sphere;
 pub use surface::SurfacePoint;
@@ -272,49 +274,6 @@ impl Geometry {
                 color: crate::math::Vec4::ONE,
                 tangent: None,
             },
-        }
-    }
-
-    /// Whether primitive `index` blocks `ray` with the test `precision` selects: the verdict
-    /// of [`Geometry::intersect_with`], by an any-hit query inside an instance.
-    #[inline]
-    pub fn blocks(&self, precision: Precision, index: u32, ray: &Ray, wr: &WatertightRay) -> bool {
-        match self.prims[index as usize] {
-            Primitive::Instance { instance } => self.instance_blocks(instance, ray, precision),
-            _ => self.intersect_with(precision, index, ray, wr).is_some(),
-        }
-    }
-
-    /// [`Geometry::intersect`] of a sphere or an instance, which need no shear.
-    #[inline]
-    pub(crate) fn intersect_alone(&self, index: u32, ray: &Ray) -> Option<PrimHit> {
-        match self.prims[index as usize] {
-            Primitive::Instance { instance } => {
-                self.intersect_instance(instance, ray, Precision::Watertight)
-            }
-            Primitive::Sphere { sphere } => {
-                self.spheres[sphere as usize]
-                    .intersect(ray)
-                    .map(|t| PrimHit {
-                        t,
-                        u: 0.0,
-                        v: 0.0,
-                        inner: 0,
-                    })
-            }
-            // Not called for triangles (they go with their leaf's shear); answered all the same.
-            Primitive::Triangle { .. } => self.intersect(index, ray, &WatertightRay::new(ray.dir)),
-        }
-    }
-
-    /// [`Geometry::blocks`] of a sphere or an instance with the watertight tests.
-    #[inline]
-    pub(crate) fn blocks_alone(&self, index: u32, ray: &Ray) -> bool {
-        match self.prims[index as usize] {
-            Primitive::Instance { instance } => {
-                self.instance_blocks(instance, ray, Precision::Watertight)
-            }
-            _ => self.intersect_alone(index, ray).is_some(),
         }
     }
 
