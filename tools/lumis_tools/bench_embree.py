@@ -187,9 +187,10 @@ def prepare_model(model: Path, subdivide: int, tmp: Path, instance: bool = False
         lumis_scene = tmp / f"{model.stem}.toml"
         lumis_scene.write_text(f"[[mesh]]\nfile = {json.dumps(str(model))}\n")
     if instance:
-        if lumis_scene.suffix.lower() in (".toml", ".scn"):
+        # The model file itself (a bare .m was wrapped in a scene above).
+        path = model if model.suffix.lower() == ".m" and not subdivide else lumis_scene
+        if path.suffix.lower() in (".toml", ".scn"):
             raise exitcodes.SetupError("--lumis-instance takes a model file, not a scene")
-        path = lumis_scene
         lumis_scene = tmp / f"{model.stem}.instance.toml"
         lumis_scene.write_text(f"[[mesh]]\nname = \"model\"\nfile = {json.dumps(str(path))}\n"
                                "[[instance]]\nof = \"model\"\n")
