@@ -97,6 +97,10 @@ impl PrototypeQueries for Prototype {
         self.geometry.bytes() + self.accel.bytes()
     }
 
+    fn hierarchy(&self) -> &dyn std::any::Any {
+        &*self.accel
+    }
+
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }

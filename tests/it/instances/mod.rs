@@ -6,8 +6,11 @@
 //!   documented bound (the object-space ray rounds once).
 //! - [`hard`]: instanced closed meshes far from the origin, mirrored, scaled 1e-6..1e6: no
 //!   leaks, hits within the bound of an independent `f64` oracle.
+//! - [`in_flight`]: the batch walk, which enters instances in place, answers as the one-ray
+//!   walk and brute force over instances, records bit for bit.
 
 mod agreement;
 mod fixtures;
 mod flattened;
 mod hard;
+mod in_flight;

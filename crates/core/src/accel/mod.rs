@@ -268,6 +268,21 @@ impl Accel {
         self.packed.as_ref()?.corners(slot)
     }
 
+    /// [`Accel::packed_corners`] of the prototype instance `instance` of `geometry` places
+    /// (a [`Traced::slot`] of a hit inside it), in object space.
+    pub fn prototype_corners(
+        geometry: &Geometry,
+        instance: u32,
+        slot: u32,
+    ) -> Option<[crate::math::Vec3; 3]> {
+        let prototype = geometry.instances().get(instance as usize)?.prototype;
+        let proto = &geometry.prototypes()[prototype as usize];
+        proto
+            .hierarchy()
+            .downcast_ref::<Accel>()?
+            .packed_corners(slot)
+    }
+
     /// Where this accelerator traces queries from: the scene's bounds and near region.
     pub fn frame(&self) -> &RayFrame {
         &self.frame

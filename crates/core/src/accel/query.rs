@@ -4,7 +4,7 @@
 //! far away (the hit's `t` is then mapped back to the caller's ray), or not at all.
 
 use super::PackedWatertight;
-use super::wide::NearestQueries;
+use super::wide::{Entered, Inside, NearestQueries, NearestStack, inside};
 use super::{
     Accel, Hit, PACKET, PackedLeaves, PrimHit, Structure, Traversal, TraversalStats, leaves,
 };
@@ -131,7 +131,17 @@ impl Accel {
         if let (Precision::Watertight, Some((wide, packed)), true) =
             (precision, self.packed(), K > 1)
         {
-            let mut queries = PackedQueries {
+            if geometry.has_instances() {
+                let mut queries = PackedQueries::<_, _, true> {
+                    accel: self,
+                    geometry,
+                    packed,
+                    rays,
+                    answer,
+                };
+                return wide.intersect_in_flight::<K, _>(&mut queries, stats);
+            }
+            let mut queries = PackedQueries::<_, _, false> {
                 accel: self,
                 geometry,
                 packed,
@@ -317,7 +327,8 @@ impl Accel {
 
 /// The rays of [`Accel::trace_geometry_each`] through the packed leaves: those the frame
 /// holds go to the batch walk, the others are traced on the way, as `trace_geometry` would.
-struct PackedQueries<'a, R, A> {
+/// `ENTERS`: the geometry has instances, which the batch walk enters in place.
+struct PackedQueries<'a, R, A, const ENTERS: bool> {
     accel: &'a Accel,
     geometry: &'a Geometry,
     packed: &'a PackedLeaves,
@@ -325,7 +336,7 @@ struct PackedQueries<'a, R, A> {
     answer: A,
 }
 
-impl<'a, Id, R, A> NearestQueries for PackedQueries<'a, R, A>
+impl<'a, Id, R, A, const ENTERS: bool> NearestQueries<'a> for PackedQueries<'a, R, A, ENTERS>
 where
     Id: Copy,
     R: FnMut() -> Option<(Id, Ray)>,
@@ -333,13 +344,19 @@ where
 {
     type Id = Id;
     type Leaves = PackedWatertight<'a>;
+    const ENTERS_INSTANCES: bool = ENTERS;
 
     #[inline(always)]
     fn next(&mut self, stats: &mut TraversalStats) -> Option<(Id, Ray, PackedWatertight<'a>)> {
         loop {
             let (id, ray) = (self.rays)()?;
             if self.accel.frame.holds(ray.origin) {
-                return Some((id, ray, PackedWatertight::new(self.packed, self.geometry)));
+                let leaves = if ENTERS {
+                    PackedWatertight::entering_instances(self.packed, self.geometry)
+                } else {
+                    PackedWatertight::new(self.packed, self.geometry)
+                };
+                return Some((id, ray, leaves));
             }
             let far = self
                 .accel
@@ -353,5 +370,34 @@ where
         // As `trace_geometry` answers a ray the frame holds.
         let traced = hit.map(|h| Traced::on(ray, (h, leaves.best_slot()), h.hit.t));
         (self.answer)(id, traced);
+    }
+
+    #[inline(always)]
+    fn enter(
+        &self,
+        leaves: &mut PackedWatertight<'a>,
+        ray: &Ray,
+        stack: &mut NearestStack,
+        walk: &mut Option<Inside<'a>>,
+    ) -> Option<Entered> {
+        let (prim, instance) = leaves.next_instance()?;
+        Some(inside::enter(
+            self.geometry,
+            prim,
+            instance,
+            ray,
+            stack,
+            walk,
+        ))
+    }
+
+    #[inline(always)]
+    fn leave(&self, inside: &Inside<'a>) -> Option<(u32, PrimHit, Option<u32>)> {
+        inside.answer(self.geometry)
+    }
+
+    #[inline(always)]
+    fn took_entered(leaves: &mut PackedWatertight<'a>, slot: Option<u32>) {
+        leaves.took_entered(slot);
     }
 }

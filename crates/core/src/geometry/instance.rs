@@ -51,6 +51,9 @@ pub trait PrototypeQueries: std::fmt::Debug + Send + Sync {
     fn all_hits(&self, ray: &Ray, precision: Precision) -> Vec<(PrimHit, bool)>;
     /// Bytes of the shapes and the hierarchy (held once however many instances place them).
     fn bytes(&self) -> usize;
+    /// The hierarchy over the shapes, opaque here (the accelerators know its type): a walk
+    /// that enters instances in place walks it itself instead of calling [`Self::nearest`].
+    fn hierarchy(&self) -> &dyn std::any::Any;
     /// The concrete prototype, for the module that builds them.
     fn as_any(&self) -> &dyn std::any::Any;
 }
@@ -66,6 +69,21 @@ pub struct Instance {
     pub bounds: Aabb,
     /// Where rays are traced from into it (far origins are moved near it first).
     frame: RayFrame,
+}
+
+/// An instance entered by a query: the object-space ray its prototype is asked about, and
+/// what maps the prototype's answer back ([`Geometry::instance_exit`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct InstanceEntry {
+    /// Index into [`Geometry::instances`].
+    pub(crate) instance: u32,
+    /// Index into [`Geometry::prototypes`].
+    pub(crate) prototype: u32,
+    /// The object-space ray.
+    pub(crate) object: Ray,
+    framing: Framing,
+    /// The caller's ray (a moved ray's hits must lie in the box along it).
+    ray: Ray,
 }
 
 impl Geometry {
@@ -165,10 +183,32 @@ impl Geometry {
         }
     }
 
-    /// The instance's framing of `ray` and the object-space ray to test. A ray traced as given
+    /// The entry of `ray` into instance `instance`: its framing of `ray` and the object-space ray to test. A ray traced as given
     /// is clipped to the interval in which it is inside the instance's box as the traversals
     /// compute it: every hit the prototype then reports lies in that box (see the module docs),
     /// and nearest and any-hit queries search the same interval.
+    #[inline(always)]
+    pub(crate) fn instance_entry(&self, instance: u32, ray: &Ray) -> Option<InstanceEntry> {
+        let (inst, framing, object) = self.instance_ray(instance, ray)?;
+        Some(InstanceEntry {
+            instance,
+            prototype: inst.prototype,
+            object,
+            framing,
+            ray: *ray,
+        })
+    }
+
+    /// The prototype's nearest hit `found` on `entry.object` as a hit of the instance on the
+    /// caller's ray: its `t` there, if it counts (see [`Geometry::instance_entry`]).
+    #[inline(always)]
+    pub(crate) fn instance_exit(&self, entry: &InstanceEntry, found: PrimHit) -> Option<PrimHit> {
+        let inst = &self.instances[entry.instance as usize];
+        let t = entry.framing.caller_t(found.t)?;
+        Self::in_instance_box(inst, &entry.framing, &entry.ray, t).then_some(PrimHit { t, ..found })
+    }
+
+    /// [`Geometry::instance_entry`] without the copies.
     #[inline(always)]
     fn instance_ray(&self, instance: u32, ray: &Ray) -> Option<(&Instance, Framing, Ray)> {
         let inst = &self.instances[instance as usize];
@@ -210,10 +250,9 @@ impl Geometry {
         ray: &Ray,
         precision: Precision,
     ) -> Option<PrimHit> {
-        let (inst, framing, object) = self.instance_ray(instance, ray)?;
-        let found = self.prototypes[inst.prototype as usize].nearest(&object, precision)?;
-        let t = framing.caller_t(found.t)?;
-        Self::in_instance_box(inst, &framing, ray, t).then_some(PrimHit { t, ..found })
+        let entry = self.instance_entry(instance, ray)?;
+        let found = self.prototypes[entry.prototype as usize].nearest(&entry.object, precision)?;
+        self.instance_exit(&entry, found)
     }
 
     /// Whether something of instance `instance` blocks `ray`: the prototype's any-hit query
@@ -290,6 +329,13 @@ impl Geometry {
             p_error,
             ..s
         }
+    }
+
+    /// The world-space unit normal of instance `instance`'s object-space normal `n` (what
+    /// [`Geometry::geometric_normal`] gives from the prototype's corners, when the caller
+    /// already has them).
+    pub fn instance_world_normal(&self, instance: u32, n: Vec3) -> Vec3 {
+        self.instances[instance as usize].placement.world_normal(n)
     }
 
     /// [`Geometry::geometric_normal`] of a hit on an instance.

@@ -154,12 +154,18 @@ impl World {
     /// The unit geometric normal of a traced hit (see `Geometry::geometric_normal`): from the
     /// packed leaves' copy of the triangle when the hit was found there, the same bits, without
     /// the dependent reads of the primitive list, the index buffer and the vertices.
+    /// A hit inside an instance walked in place carries the slot in its prototype's packed
+    /// leaves: the object-space normal from there, mapped as the instance maps normals.
     pub fn geometric_normal(&self, traced: &Traced) -> Vec3 {
         let g = self.scene.geometry();
-        match traced.slot.and_then(|s| self.accel.packed_corners(s)) {
-            Some(corners) => unit_face_normal(corners),
-            None => g.geometric_normal(traced.hit.prim, &traced.ray, &traced.hit.hit),
-        }
+        let packed = traced
+            .slot
+            .and_then(|slot| match g.instance_of(traced.hit.prim) {
+                None => self.accel.packed_corners(slot).map(unit_face_normal),
+                Some(instance) => Accel::prototype_corners(g, instance, slot)
+                    .map(|c| g.instance_world_normal(instance, unit_face_normal(c))),
+            });
+        packed.unwrap_or_else(|| g.geometric_normal(traced.hit.prim, &traced.ray, &traced.hit.hit))
     }
 
     /// The interaction of a traced hit: its surface computed on the ray it was found on, with

@@ -106,6 +106,11 @@ pub(crate) struct PackedWatertight<'a> {
     /// For an any-hit query: a lane that is not a triangle (an instance) is asked whether it
     /// blocks, not for its nearest hit.
     any_hit: bool,
+    /// For a walk that enters instances itself (`wide::inside`): a leaf's instances are not
+    /// tested but left in [`Self::deferred`] for the walk to enter.
+    enters_instances: bool,
+    /// The slots of the last leaf tested that may still hold instances to enter.
+    deferred: std::ops::Range<u32>,
 }
 
 /// [`PackedWatertight::best_slot`] of a query without a hit.
@@ -121,7 +126,48 @@ impl<'a> PackedWatertight<'a> {
             shear: None,
             best_slot: NO_SLOT,
             any_hit: false,
+            enters_instances: false,
+            deferred: 0..0,
         }
+    }
+
+    /// [`PackedWatertight::new`] for a walk that enters the instances of its leaves itself
+    /// ([`Self::next_instance`]).
+    #[inline(always)]
+    pub(crate) fn entering_instances(packed: &'a PackedLeaves, geometry: &'a Geometry) -> Self {
+        Self {
+            enters_instances: true,
+            ..Self::new(packed, geometry)
+        }
+    }
+
+    /// The next instance the last leaf test left to be entered: its primitive and instance.
+    #[inline(always)]
+    pub(crate) fn next_instance(&mut self) -> Option<(u32, u32)> {
+        for slot in self.deferred.by_ref() {
+            let prim = self.packed.groups[slot as usize / LANES].prim[slot as usize % LANES];
+            if prim == PADDING {
+                continue;
+            }
+            if let Some(instance) = self.geometry.instance_of(prim) {
+                return Some((prim, instance));
+            }
+        }
+        None
+    }
+
+    /// Records that the walk took a hit found outside the leaf tests (inside an instance)
+    /// as its best: `slot` in the instance's prototype's packed leaves, if there.
+    #[inline(always)]
+    pub(crate) fn took_entered(&mut self, slot: Option<u32>) {
+        self.best_slot = slot.unwrap_or(NO_SLOT);
+    }
+
+    /// Whether `prim` is an instance this walk enters itself: then it is not tested but left
+    /// for [`Self::next_instance`] ([`defer`]).
+    #[inline(always)]
+    fn enters(&self, prim: u32) -> bool {
+        self.enters_instances && self.geometry.instance_of(prim).is_some()
     }
 
     /// [`PackedWatertight::new`] for an any-hit query.
@@ -180,6 +226,11 @@ impl<'a> PackedWatertight<'a> {
                 } else {
                     None
                 };
+                let slot = (g * LANES + lane) as u32;
+                if decided_hit.is_none() && v[0][lane].is_nan() && self.enters(prim) {
+                    defer(&mut self.deferred, slot, first + count as u32);
+                    continue;
+                }
                 let hit = match decided_hit {
                     Some(h) => h.and_then(|h| self.alpha(prim, h)),
                     // Not a triangle: the geometry's own test (a sphere, an instance); an
@@ -200,11 +251,7 @@ impl<'a> PackedWatertight<'a> {
                 if let Some(h) = hit {
                     // A slot only for triangles: a hit with one is a triangle whose corners
                     // `corners` reads.
-                    let slot = if v[0][lane].is_nan() {
-                        NO_SLOT
-                    } else {
-                        (g * LANES + lane) as u32
-                    };
+                    let slot = if v[0][lane].is_nan() { NO_SLOT } else { slot };
                     match f(prim, slot, h) {
                         Some(next) => ray = next,
                         None => return,
@@ -241,6 +288,10 @@ impl<'a> PackedWatertight<'a> {
             if prim == PADDING {
                 continue;
             }
+            if self.enters(prim) {
+                defer(&mut self.deferred, slot as u32, first + count as u32);
+                continue;
+            }
             let hit = if self.any_hit {
                 self.geometry.blocks_alone(prim, &ray).then_some(PrimHit {
                     t: ray.t_max,
@@ -271,6 +322,15 @@ impl<'a> PackedWatertight<'a> {
         } else {
             None
         }
+    }
+}
+
+/// Leaves the instance at `slot` (and whatever else of its leaf lies before `end`) to
+/// [`PackedWatertight::next_instance`]; a leaf's first such slot starts the range.
+#[inline(always)]
+fn defer(deferred: &mut std::ops::Range<u32>, slot: u32, end: u32) {
+    if deferred.start >= deferred.end {
+        *deferred = slot..end;
     }
 }
 

@@ -4,20 +4,25 @@
 //! work instead of stalling the thread. A finished ray's lane takes the next ray of the batch.
 //!
 //! Each ray takes the steps of its one-ray walk ([`NearestWalk`]) in the same order, only
-//! interleaved with other rays', so every answer is the one-ray walk's, bit for bit.
+//! interleaved with other rays', so every answer is the one-ray walk's, bit for bit. Over a
+//! top level of instances, a ray enters each instance its leaf tests meet as more steps of its
+//! own ([`super::inside`]), with the answer the one-ray walk's nested query gives.
 
 use super::WideBvh;
+use super::inside::{Entered, Inside};
 use super::nearest::{NearestStack, NearestWalk};
 use crate::accel::leaves::ClosestLeaves;
 use crate::accel::{Hit, TraversalStats};
 use crate::math::Ray;
 
 /// Where the rays of a batch walk come from and where their answers go.
-pub(crate) trait NearestQueries {
+pub(crate) trait NearestQueries<'a> {
     /// What names a ray to its answer.
     type Id: Copy;
     /// The leaf tester a ray is walked with.
     type Leaves: ClosestLeaves;
+    /// Whether the leaf tests leave instances for the walk to enter ([`Self::enter`]).
+    const ENTERS_INSTANCES: bool;
 
     /// The next ray to walk and its tester; `None` once every ray has been handed out.
     fn next(&mut self, stats: &mut TraversalStats) -> Option<(Self::Id, Ray, Self::Leaves)>;
@@ -25,12 +30,30 @@ pub(crate) trait NearestQueries {
     /// The nearest hit of ray `id` (`ray` as [`Self::next`] gave it), and its tester as the
     /// walk left it.
     fn answer(&mut self, id: Self::Id, ray: &Ray, hit: Option<Hit>, leaves: &Self::Leaves);
+
+    /// The next instance the last leaf test of `leaves` left to be entered, entered from
+    /// `ray` (the walk's ray as it has shrunk), its walk started on `stack` and written into
+    /// `inside`; `None` when none is left.
+    fn enter(
+        &self,
+        leaves: &mut Self::Leaves,
+        ray: &Ray,
+        stack: &mut NearestStack,
+        inside: &mut Option<Inside<'a>>,
+    ) -> Option<Entered>;
+
+    /// The answer of a finished walk inside an instance: the instance's primitive, its hit on
+    /// the caller's ray and the hit triangle's slot in the prototype's packed leaves.
+    fn leave(&self, inside: &Inside<'a>) -> Option<(u32, crate::geometry::PrimHit, Option<u32>)>;
+
+    /// Records that the walk's best hit is now one found inside an instance.
+    fn took_entered(leaves: &mut Self::Leaves, slot: Option<u32>);
 }
 
 impl WideBvh<8> {
     /// Answers every ray of `queries` with up to `K` walks in flight (`K = 1`: one ray at a
     /// time). Without AVX2 the rays are walked one at a time.
-    pub(crate) fn intersect_in_flight<const K: usize, Q: NearestQueries>(
+    pub(crate) fn intersect_in_flight<'a, const K: usize, Q: NearestQueries<'a>>(
         &self,
         queries: &mut Q,
         stats: &mut TraversalStats,
@@ -49,14 +72,16 @@ impl WideBvh<8> {
     /// The interleaved walks, compiled for AVX2 like the one-ray walk.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
-    unsafe fn in_flight_avx2<const K: usize, Q: NearestQueries>(
+    unsafe fn in_flight_avx2<'a, const K: usize, Q: NearestQueries<'a>>(
         &self,
         queries: &mut Q,
         stats: &mut TraversalStats,
     ) {
         // Lane by lane: an array constant was copied whole, unused stack space included.
-        let mut lanes: [Lane<Q>; K] = std::array::from_fn(|_| Lane {
+        let mut lanes: [Lane<'a, Q>; K] = std::array::from_fn(|_| Lane {
             stack: NearestStack::new(),
+            inside_stack: NearestStack::new(),
+            inside: None,
             ray: None,
         });
         let mut live = 0;
@@ -70,12 +95,18 @@ impl WideBvh<8> {
                 // Up to and including the next node visit, which starts the loads this ray
                 // waits for next; the entries a leaf test pops were prefetched at their
                 // parent's visit (switching after leaf tests too measured 2-3% slower).
-                let mut going = true;
-                let mut visited_node = false;
-                while going && !visited_node {
-                    visited_node = r.walk.at_node();
-                    going = r.walk.step(self, &mut lane.stack, &mut r.leaves, stats);
-                }
+                let going = if Q::ENTERS_INSTANCES {
+                    let inside = (&mut lane.inside_stack, &mut lane.inside);
+                    r.advance_two_level(self, &mut lane.stack, inside, queries, stats)
+                } else {
+                    let mut going = true;
+                    let mut visited_node = false;
+                    while going && !visited_node {
+                        visited_node = r.walk.at_node();
+                        going = r.walk.step(self, &mut lane.stack, &mut r.leaves, stats);
+                    }
+                    going
+                };
                 if going {
                     continue;
                 }
@@ -91,12 +122,12 @@ impl WideBvh<8> {
     /// walked whole, one at a time, on the way.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn start_next<Q: NearestQueries>(
+    fn start_next<'a, Q: NearestQueries<'a>>(
         &self,
         queries: &mut Q,
         stack: &mut NearestStack,
         stats: &mut TraversalStats,
-    ) -> Option<InFlight<Q>> {
+    ) -> Option<InFlight<'a, Q>> {
         use super::child_test::{Avx2, Octant};
         use crate::math::safe_inverse;
         use crate::math::slab::SlabKind;
@@ -113,6 +144,7 @@ impl WideBvh<8> {
                             ray,
                             leaves,
                             walk,
+                            top_done: false,
                         });
                     }
                     None => queries.answer(id, &ray, None, &leaves),
@@ -127,7 +159,7 @@ impl WideBvh<8> {
     /// the batch walk's loop.
     #[cold]
     #[inline(never)]
-    fn intersect_one<Q: NearestQueries>(
+    fn intersect_one<'a, Q: NearestQueries<'a>>(
         &self,
         queries: &mut Q,
         id: Q::Id,
@@ -140,19 +172,82 @@ impl WideBvh<8> {
     }
 }
 
-/// One of the batch walk's places for a ray: the stack, which stays put (5 KB), and the ray
-/// in flight there, if any.
+/// One of the batch walk's places for a ray: the stacks, which stay put (5 KB each; the
+/// second for the walk inside an instance), the ray in flight there, if any, and its walk
+/// inside the instance it is in, if any (kept here, not in the ray's [`InFlight`], so that
+/// starting a ray does not copy its 400 bytes).
 #[cfg(target_arch = "x86_64")]
-struct Lane<Q: NearestQueries> {
+struct Lane<'a, Q: NearestQueries<'a>> {
     stack: NearestStack,
-    ray: Option<InFlight<Q>>,
+    inside_stack: NearestStack,
+    inside: Option<Inside<'a>>,
+    ray: Option<InFlight<'a, Q>>,
 }
 
 /// A ray in flight: its name, the ray, its tester and its walk.
 #[cfg(target_arch = "x86_64")]
-struct InFlight<Q: NearestQueries> {
+struct InFlight<'a, Q: NearestQueries<'a>> {
     id: Q::Id,
     ray: Ray,
     leaves: Q::Leaves,
     walk: NearestWalk<super::child_test::Avx2>,
+    /// The top-level walk is done (instances its last leaf left may still be entered).
+    top_done: bool,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<'a, Q: NearestQueries<'a>> InFlight<'a, Q> {
+    /// Steps up to and including the next node visit (of either level), entering the
+    /// instances each leaf test leaves, in order; true while the ray has more to visit.
+    #[inline(always)]
+    fn advance_two_level(
+        &mut self,
+        bvh: &WideBvh<8>,
+        stack: &mut NearestStack,
+        (inside_stack, walk_inside): (&mut NearestStack, &mut Option<Inside<'a>>),
+        queries: &Q,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        loop {
+            if let Some(inside) = walk_inside {
+                let at_node = inside.at_node();
+                if inside.step(inside_stack, stats) {
+                    if at_node {
+                        return true;
+                    }
+                    continue;
+                }
+                if let Some((prim, hit, slot)) = queries.leave(inside)
+                    && self.walk.offer(prim, hit)
+                {
+                    Q::took_entered(&mut self.leaves, slot);
+                }
+                *walk_inside = None;
+            } else if !self.top_done {
+                let at_node = self.walk.at_node();
+                self.top_done = !self.walk.step(bvh, stack, &mut self.leaves, stats);
+                if at_node && !self.top_done {
+                    return true;
+                }
+            }
+            // A leaf was tested or a walk inside finished: the instances left come next.
+            while walk_inside.is_none() {
+                let ray = self.walk.ray();
+                match queries.enter(&mut self.leaves, ray, inside_stack, walk_inside) {
+                    None => break,
+                    Some(Entered::Walk) => {}
+                    Some(Entered::Answered(prim, hit)) => {
+                        if let Some(h) = hit
+                            && self.walk.offer(prim, h)
+                        {
+                            Q::took_entered(&mut self.leaves, None);
+                        }
+                    }
+                }
+            }
+            if walk_inside.is_none() && self.top_done {
+                return false;
+            }
+        }
+    }
 }

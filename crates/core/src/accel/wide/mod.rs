@@ -12,6 +12,7 @@
 mod binary;
 mod child_test;
 mod in_flight;
+pub(crate) mod inside;
 mod lanes;
 mod nearest;
 mod packet;
@@ -19,6 +20,8 @@ mod traverse;
 mod walk;
 
 pub(crate) use in_flight::NearestQueries;
+pub(crate) use inside::{Entered, Inside};
+pub(crate) use nearest::NearestStack;
 
 pub use packet::PACKET;
 

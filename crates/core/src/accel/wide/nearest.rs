@@ -14,11 +14,12 @@ use super::walk::{STACK, Stack, prefetch_children, push_entered};
 use crate::accel::bvh::CullBound;
 use crate::accel::leaves::ClosestLeaves;
 use crate::accel::{Closest, Hit, TraversalStats};
+use crate::geometry::PrimHit;
 use crate::math::Ray;
 
 /// The stack a closest-hit walk needs; kept apart from [`NearestWalk`] so the batch walk can
 /// start a ray in a slot without moving the stack's 5 KB.
-pub(super) type NearestStack = Stack<STACK>;
+pub(crate) type NearestStack = Stack<STACK>;
 
 /// One ray's closest-hit walk between two steps: everything but the stack.
 pub(super) struct NearestWalk<T> {
@@ -47,6 +48,23 @@ impl<T> NearestWalk<T> {
     #[inline(always)]
     pub(super) fn best(&self) -> Option<Hit> {
         self.closest.best
+    }
+
+    /// The ray as the walk has shrunk it (`t_max` at the best hit so far).
+    #[inline(always)]
+    pub(super) fn ray(&self) -> &Ray {
+        &self.closest.ray
+    }
+
+    /// Offers a hit found outside the leaf tests (inside an instance the walk entered); says
+    /// whether it is the best so far.
+    #[inline(always)]
+    pub(super) fn offer(&mut self, prim: u32, hit: PrimHit) -> bool {
+        let better = self.closest.offer(prim, hit);
+        if better {
+            self.t_far = self.cull.widen(self.closest.ray.t_max);
+        }
+        better
     }
 
     /// The walk of `ray` through `bvh` with `child_test` (the one the ray needs), starting at

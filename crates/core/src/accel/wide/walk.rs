@@ -17,7 +17,7 @@ pub(super) struct Entry {
 }
 
 /// A fixed stack: each level of the tree pushes at most `W - 1` entries.
-pub(super) struct Stack<const N: usize> {
+pub(crate) struct Stack<const N: usize> {
     items: [MaybeUninit<Entry>; N],
     len: usize,
 }
@@ -57,7 +57,7 @@ impl<const N: usize> Stack<N> {
 
 /// Stack capacity for widths up to 8: `W - 1` entries per level below the root, plus the
 /// root's `W`.
-pub(super) const STACK: usize = 7 * MAX_DEPTH + 8;
+pub(crate) const STACK: usize = 7 * MAX_DEPTH + 8;
 
 /// Starts loading every entered child of `node`: each cache line of an interior child, and
 /// the leaf data of a leaf (through its tester), so the ones pushed for later are in cache by
