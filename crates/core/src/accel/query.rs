@@ -393,7 +393,7 @@ where
 
     #[inline(always)]
     fn leave(&self, inside: &Inside<'a>) -> Option<(u32, PrimHit, Option<u32>)> {
-        inside.answer(self.geometry)
+        inside.answer()
     }
 
     #[inline(always)]

@@ -71,21 +71,6 @@ pub struct Instance {
     frame: RayFrame,
 }
 
-/// An instance entered by a query: the object-space ray its prototype is asked about, and
-/// what maps the prototype's answer back ([`Geometry::instance_exit`]).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct InstanceEntry {
-    /// Index into [`Geometry::instances`].
-    pub(crate) instance: u32,
-    /// Index into [`Geometry::prototypes`].
-    pub(crate) prototype: u32,
-    /// The object-space ray.
-    pub(crate) object: Ray,
-    framing: Framing,
-    /// The caller's ray (a moved ray's hits must lie in the box along it).
-    ray: Ray,
-}
-
 impl Geometry {
     /// Whether primitive `index` blocks `ray` with the test `precision` selects: the verdict
     /// of [`Geometry::intersect_with`], by an any-hit query inside an instance.
@@ -177,60 +162,63 @@ impl Geometry {
     /// The instance primitive `index` is, if it is one.
     #[inline]
     pub fn instance_of(&self, index: u32) -> Option<u32> {
+        // The flag first: scenes without instances never read the primitive list here.
+        if !self.any_instances {
+            return None;
+        }
         match self.prims[index as usize] {
-            Primitive::Instance { instance } if self.any_instances => Some(instance),
+            Primitive::Instance { instance } => Some(instance),
             _ => None,
         }
     }
 
-    /// The entry of `ray` into instance `instance`: its framing of `ray` and the object-space ray to test. A ray traced as given
+    /// The instance's framing of `ray` and the object-space ray to test. A ray traced as given
     /// is clipped to the interval in which it is inside the instance's box as the traversals
     /// compute it: every hit the prototype then reports lies in that box (see the module docs),
     /// and nearest and any-hit queries search the same interval.
     #[inline(always)]
-    pub(crate) fn instance_entry(&self, instance: u32, ray: &Ray) -> Option<InstanceEntry> {
-        let (inst, framing, object) = self.instance_ray(instance, ray)?;
-        Some(InstanceEntry {
-            instance,
-            prototype: inst.prototype,
-            object,
-            framing,
-            ray: *ray,
-        })
-    }
-
-    /// The prototype's nearest hit `found` on `entry.object` as a hit of the instance on the
-    /// caller's ray: its `t` there, if it counts (see [`Geometry::instance_entry`]).
-    #[inline(always)]
-    pub(crate) fn instance_exit(&self, entry: &InstanceEntry, found: PrimHit) -> Option<PrimHit> {
-        let inst = &self.instances[entry.instance as usize];
-        let t = entry.framing.caller_t(found.t)?;
-        Self::in_instance_box(inst, &entry.framing, &entry.ray, t).then_some(PrimHit { t, ..found })
-    }
-
-    /// [`Geometry::instance_entry`] without the copies.
-    #[inline(always)]
     fn instance_ray(&self, instance: u32, ray: &Ray) -> Option<(&Instance, Framing, Ray)> {
         let inst = &self.instances[instance as usize];
         let framing = inst.frame.frame(ray);
-        let local = match framing {
-            Framing::AsGiven => {
-                let (near, far) = crate::math::slab::box_range(&inst.bounds, ray)?;
-                let clipped = Ray {
-                    t_min: ray.t_min.max(near.next_down()),
-                    t_max: ray.t_max.min(far),
-                    ..*ray
-                };
-                // Empty, or NaN from a degenerate range: nothing in the box to find.
-                if clipped.t_min.partial_cmp(&clipped.t_max) != Some(std::cmp::Ordering::Less) {
-                    return None;
-                }
-                clipped
-            }
-            _ => *framing.ray(ray)?,
+        let object = match framing {
+            Framing::AsGiven => Self::clipped_object_ray(inst, ray)?,
+            _ => inst.placement.object_ray(framing.ray(ray)?)?,
         };
-        let object = inst.placement.object_ray(&local)?;
         Some((inst, framing, object))
+    }
+
+    /// [`Geometry::instance_ray`] of a ray the instance traces as given (its origin near
+    /// the instance): the prototype and the object-space ray, on which a hit's `t` is the
+    /// caller's and always counts; `Ok(None)` when nothing in the box can be hit. `Err` for a
+    /// ray from far away, which the instance frames first (its nested query does).
+    #[inline(always)]
+    pub(crate) fn instance_ray_as_given(
+        &self,
+        instance: u32,
+        ray: &Ray,
+    ) -> Result<Option<(u32, Ray)>, ()> {
+        let inst = &self.instances[instance as usize];
+        if !inst.frame.holds(ray.origin) {
+            return Err(());
+        }
+        Ok(Self::clipped_object_ray(inst, ray).map(|object| (inst.prototype, object)))
+    }
+
+    /// The object-space image of `ray` clipped to the interval in which it is inside `inst`'s
+    /// box as the traversals compute it.
+    #[inline(always)]
+    fn clipped_object_ray(inst: &Instance, ray: &Ray) -> Option<Ray> {
+        let (near, far) = crate::math::slab::box_range(&inst.bounds, ray)?;
+        let clipped = Ray {
+            t_min: ray.t_min.max(near.next_down()),
+            t_max: ray.t_max.min(far),
+            ..*ray
+        };
+        // Empty, or NaN from a degenerate range: nothing in the box to find.
+        if clipped.t_min.partial_cmp(&clipped.t_max) != Some(std::cmp::Ordering::Less) {
+            return None;
+        }
+        inst.placement.object_ray(&clipped)
     }
 
     /// Whether hit distance `t` (on `ray`) counts for instance `inst` framed by `framing`: a
@@ -250,9 +238,10 @@ impl Geometry {
         ray: &Ray,
         precision: Precision,
     ) -> Option<PrimHit> {
-        let entry = self.instance_entry(instance, ray)?;
-        let found = self.prototypes[entry.prototype as usize].nearest(&entry.object, precision)?;
-        self.instance_exit(&entry, found)
+        let (inst, framing, object) = self.instance_ray(instance, ray)?;
+        let found = self.prototypes[inst.prototype as usize].nearest(&object, precision)?;
+        let t = framing.caller_t(found.t)?;
+        Self::in_instance_box(inst, &framing, ray, t).then_some(PrimHit { t, ..found })
     }
 
     /// Whether something of instance `instance` blocks `ray`: the prototype's any-hit query

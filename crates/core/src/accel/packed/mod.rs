@@ -141,6 +141,16 @@ impl<'a> PackedWatertight<'a> {
         }
     }
 
+    /// [`PackedWatertight::new`] over the tester of an earlier ray, written in place.
+    #[inline(always)]
+    pub(crate) fn restart(&mut self, packed: &'a PackedLeaves, geometry: &'a Geometry) {
+        self.packed = packed;
+        self.geometry = geometry;
+        self.shear = None;
+        self.best_slot = NO_SLOT;
+        self.deferred = 0..0;
+    }
+
     /// The next instance the last leaf test left to be entered: its primitive and instance.
     #[inline(always)]
     pub(crate) fn next_instance(&mut self) -> Option<(u32, u32)> {
@@ -227,12 +237,13 @@ impl<'a> PackedWatertight<'a> {
                     None
                 };
                 let slot = (g * LANES + lane) as u32;
-                if decided_hit.is_none() && v[0][lane].is_nan() && self.enters(prim) {
-                    defer(&mut self.deferred, slot, first + count as u32);
-                    continue;
-                }
                 let hit = match decided_hit {
                     Some(h) => h.and_then(|h| self.alpha(prim, h)),
+                    // An instance the walk enters itself: left for it, not tested.
+                    None if v[0][lane].is_nan() && self.enters(prim) => {
+                        defer(&mut self.deferred, slot, first + count as u32);
+                        None
+                    }
                     // Not a triangle: the geometry's own test (a sphere, an instance); an
                     // any-hit query needs only the verdict, which `f` takes from any hit.
                     None if v[0][lane].is_nan() && self.any_hit => self

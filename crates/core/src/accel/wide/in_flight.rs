@@ -9,7 +9,7 @@
 //! own ([`super::inside`]), with the answer the one-ray walk's nested query gives.
 
 use super::WideBvh;
-use super::inside::{Entered, Inside};
+use super::inside::{Entered, Inside, walking};
 use super::nearest::{NearestStack, NearestWalk};
 use crate::accel::leaves::ClosestLeaves;
 use crate::accel::{Hit, TraversalStats};
@@ -80,23 +80,23 @@ impl WideBvh<8> {
         // Lane by lane: an array constant was copied whole, unused stack space included.
         let mut lanes: [Lane<'a, Q>; K] = std::array::from_fn(|_| Lane {
             stack: NearestStack::new(),
-            inside_stack: NearestStack::new(),
-            inside: None,
             ray: None,
         });
+        // Each lane's walk inside an instance, apart from the lanes (untouched without
+        // instances, so the lanes' stacks stay as close together as before).
+        let mut insides: [InsideSlot<'a>; K] = std::array::from_fn(|_| InsideSlot::default());
         let mut live = 0;
         for lane in &mut lanes {
             lane.ray = self.start_next(queries, &mut lane.stack, stats);
             live += lane.ray.is_some() as usize;
         }
         while live > 0 {
-            for lane in &mut lanes {
+            for (lane, inside) in lanes.iter_mut().zip(&mut insides) {
                 let Some(r) = &mut lane.ray else { continue };
                 // Up to and including the next node visit, which starts the loads this ray
                 // waits for next; the entries a leaf test pops were prefetched at their
                 // parent's visit (switching after leaf tests too measured 2-3% slower).
                 let going = if Q::ENTERS_INSTANCES {
-                    let inside = (&mut lane.inside_stack, &mut lane.inside);
                     r.advance_two_level(self, &mut lane.stack, inside, queries, stats)
                 } else {
                     let mut going = true;
@@ -172,16 +172,30 @@ impl WideBvh<8> {
     }
 }
 
-/// One of the batch walk's places for a ray: the stacks, which stay put (5 KB each; the
-/// second for the walk inside an instance), the ray in flight there, if any, and its walk
-/// inside the instance it is in, if any (kept here, not in the ray's [`InFlight`], so that
-/// starting a ray does not copy its 400 bytes).
+/// One of the batch walk's places for a ray: the stack, which stays put (5 KB), and the ray
+/// in flight there, if any.
 #[cfg(target_arch = "x86_64")]
 struct Lane<'a, Q: NearestQueries<'a>> {
     stack: NearestStack,
-    inside_stack: NearestStack,
-    inside: Option<Inside<'a>>,
     ray: Option<InFlight<'a, Q>>,
+}
+
+/// A lane's walk inside the instance its ray is in, if any, with its own stack (kept apart
+/// from the ray's [`InFlight`], so that starting a ray does not copy its 400 bytes).
+#[cfg(target_arch = "x86_64")]
+struct InsideSlot<'a> {
+    stack: NearestStack,
+    walk: Option<Inside<'a>>,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Default for InsideSlot<'_> {
+    fn default() -> Self {
+        Self {
+            stack: NearestStack::new(),
+            walk: None,
+        }
+    }
 }
 
 /// A ray in flight: its name, the ray, its tester and its walk.
@@ -204,38 +218,70 @@ impl<'a, Q: NearestQueries<'a>> InFlight<'a, Q> {
         &mut self,
         bvh: &WideBvh<8>,
         stack: &mut NearestStack,
-        (inside_stack, walk_inside): (&mut NearestStack, &mut Option<Inside<'a>>),
+        inside: &mut InsideSlot<'a>,
+        queries: &Q,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        // Most turns: a walk inside under way, stepped as the one-level walk steps.
+        if let Some(walk) = walking(&mut inside.walk)
+            && self.step_inside(walk, &mut inside.stack, queries, stats)
+        {
+            return true;
+        }
+        self.advance_top(bvh, stack, inside, queries, stats)
+    }
+
+    /// Steps the walk inside an instance up to and including its next node visit (true), or
+    /// to its end, whose answer it offers to the ray's walk (false).
+    #[inline(always)]
+    fn step_inside(
+        &mut self,
+        walk: &mut Inside<'a>,
+        stack: &mut NearestStack,
         queries: &Q,
         stats: &mut TraversalStats,
     ) -> bool {
         loop {
-            if let Some(inside) = walk_inside {
-                let at_node = inside.at_node();
-                if inside.step(inside_stack, stats) {
-                    if at_node {
-                        return true;
-                    }
-                    continue;
-                }
-                if let Some((prim, hit, slot)) = queries.leave(inside)
-                    && self.walk.offer(prim, hit)
-                {
-                    Q::took_entered(&mut self.leaves, slot);
-                }
-                *walk_inside = None;
-            } else if !self.top_done {
-                let at_node = self.walk.at_node();
-                self.top_done = !self.walk.step(bvh, stack, &mut self.leaves, stats);
-                if at_node && !self.top_done {
-                    return true;
-                }
+            let at_node = walk.at_node();
+            if !walk.step(stack, stats) {
+                break;
             }
-            // A leaf was tested or a walk inside finished: the instances left come next.
-            while walk_inside.is_none() {
+            if at_node {
+                return true;
+            }
+        }
+        if let Some((prim, hit, slot)) = queries.leave(walk)
+            && self.walk.offer(prim, hit)
+        {
+            Q::took_entered(&mut self.leaves, slot);
+        }
+        walk.finish();
+        false
+    }
+
+    /// The other turns: entering the instances the last leaf test left (in order), and the
+    /// top level's steps.
+    #[inline(always)]
+    fn advance_top(
+        &mut self,
+        bvh: &WideBvh<8>,
+        stack: &mut NearestStack,
+        inside: &mut InsideSlot<'a>,
+        queries: &Q,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        loop {
+            loop {
                 let ray = self.walk.ray();
-                match queries.enter(&mut self.leaves, ray, inside_stack, walk_inside) {
+                match queries.enter(&mut self.leaves, ray, &mut inside.stack, &mut inside.walk) {
                     None => break,
-                    Some(Entered::Walk) => {}
+                    Some(Entered::Walk) => {
+                        if let Some(walk) = walking(&mut inside.walk)
+                            && self.step_inside(walk, &mut inside.stack, queries, stats)
+                        {
+                            return true;
+                        }
+                    }
                     Some(Entered::Answered(prim, hit)) => {
                         if let Some(h) = hit
                             && self.walk.offer(prim, h)
@@ -245,8 +291,13 @@ impl<'a, Q: NearestQueries<'a>> InFlight<'a, Q> {
                     }
                 }
             }
-            if walk_inside.is_none() && self.top_done {
+            if self.top_done {
                 return false;
+            }
+            let at_node = self.walk.at_node();
+            self.top_done = !self.walk.step(bvh, stack, &mut self.leaves, stats);
+            if at_node && !self.top_done {
+                return true;
             }
         }
     }

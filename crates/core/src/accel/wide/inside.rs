@@ -16,7 +16,7 @@ use super::child_test::{Avx2, Octant};
 use super::nearest::{NearestStack, NearestWalk};
 use crate::accel::packed::PackedWatertight;
 use crate::accel::{Accel, Hit, TraversalStats};
-use crate::geometry::{Geometry, InstanceEntry, PrimHit};
+use crate::geometry::{Geometry, PrimHit};
 use crate::math::safe_inverse;
 use crate::math::slab::SlabKind;
 
@@ -27,7 +27,14 @@ pub(crate) struct Inside<'a> {
     leaves: PackedWatertight<'a>,
     /// The instance's primitive in the walk it was entered from.
     prim: u32,
-    entry: InstanceEntry,
+    /// Under way (a finished walk stays in its slot, to be written over by the next).
+    active: bool,
+}
+
+/// The walk in `slot`, if one is under way.
+#[inline(always)]
+pub(super) fn walking<'s, 'a>(slot: &'s mut Option<Inside<'a>>) -> Option<&'s mut Inside<'a>> {
+    slot.as_mut().filter(|w| w.active)
 }
 
 /// What entering an instance gives: a walk to step (written where the caller asked), or the
@@ -50,28 +57,44 @@ pub(crate) fn enter<'a>(
     stack: &mut NearestStack,
     inside: &mut Option<Inside<'a>>,
 ) -> Entered {
-    let Some(entry) = geometry.instance_entry(instance, ray) else {
-        return Entered::Answered(prim, None);
+    // A ray from far away is framed for the instance first: the nested query does that.
+    let (prototype, object) = match geometry.instance_ray_as_given(instance, ray) {
+        Ok(Some(entered)) => entered,
+        Ok(None) => return Entered::Answered(prim, None),
+        Err(()) => return Entered::Answered(prim, geometry.intersect_alone(prim, ray)),
     };
-    let proto = &geometry.prototypes()[entry.prototype as usize];
+    let proto = &geometry.prototypes()[prototype as usize];
     let walkable = proto
         .hierarchy()
         .downcast_ref::<Accel>()
-        .filter(|a| a.frame().holds(entry.object.origin))
+        .filter(|a| a.frame().holds(object.origin))
         .and_then(Accel::packed);
-    let inv = safe_inverse(entry.object.dir);
+    let inv = safe_inverse(object.dir);
     match walkable {
-        Some((bvh, packed)) if SlabKind::with_inverse(&entry.object, inv) == SlabKind::Finite => {
-            let test = Avx2(Octant::new(&entry.object, inv.to_array()));
-            match NearestWalk::start(bvh, test, &entry.object, stack) {
+        Some((bvh, packed)) if SlabKind::with_inverse(&object, inv) == SlabKind::Finite => {
+            let test = Avx2(Octant::new(&object, inv.to_array()));
+            match NearestWalk::start(bvh, test, &object, stack) {
                 Some(walk) => {
-                    *inside = Some(Inside {
-                        walk,
-                        bvh,
-                        leaves: PackedWatertight::new(packed, proto.geometry()),
-                        prim,
-                        entry,
-                    });
+                    // Field by field over the last walk: a whole new value was built on the
+                    // stack and copied (the copy's loads stalled on the stores before them).
+                    match inside {
+                        Some(w) => {
+                            w.walk = walk;
+                            w.bvh = bvh;
+                            w.leaves.restart(packed, proto.geometry());
+                            w.prim = prim;
+                            w.active = true;
+                        }
+                        None => {
+                            *inside = Some(Inside {
+                                walk,
+                                bvh,
+                                leaves: PackedWatertight::new(packed, proto.geometry()),
+                                prim,
+                                active: true,
+                            })
+                        }
+                    }
                     Entered::Walk
                 }
                 None => Entered::Answered(prim, None),
@@ -95,14 +118,19 @@ impl Inside<'_> {
         self.walk.step(self.bvh, stack, &mut self.leaves, stats)
     }
 
-    /// The finished walk's answer as a hit of the instance's primitive on the caller's ray,
-    /// with the hit triangle's slot in the prototype's packed leaves.
+    /// Marks the walk finished.
     #[inline(always)]
-    pub(crate) fn answer(&self, geometry: &Geometry) -> Option<(u32, PrimHit, Option<u32>)> {
+    pub(super) fn finish(&mut self) {
+        self.active = false;
+    }
+
+    /// The finished walk's answer as a hit of the instance's primitive (its `t` on the
+    /// object-space ray is the caller's: the ray was traced as given), with the hit
+    /// triangle's slot in the prototype's packed leaves.
+    #[inline(always)]
+    pub(crate) fn answer(&self) -> Option<(u32, PrimHit, Option<u32>)> {
         let Hit { prim: inner, hit } = self.walk.best()?;
         // As the prototype's query reports it: its primitive in `inner`.
-        let found = PrimHit { inner, ..hit };
-        let hit = geometry.instance_exit(&self.entry, found)?;
-        Some((self.prim, hit, self.leaves.best_slot()))
+        Some((self.prim, PrimHit { inner, ..hit }, self.leaves.best_slot()))
     }
 }
