@@ -3,7 +3,7 @@
 //! nested query, and of brute force over instances, bit for bit: the hit, its primitive,
 //! instance, object and normal (which the batch walk reads from the prototype's packed
 //! leaves), on crowds of overlapping instances, nested boxes, tiny and huge placements, rays
-//! from inside and from far away.
+//! from inside, from far away and along the axes.
 
 use super::fixtures::{instanced, placements};
 use crate::common::Rng;
@@ -61,7 +61,14 @@ fn rows(world: &World, n: usize) -> Vec<RayRow> {
                 3 => tiny[i % tiny.len()],
                 _ => rng.in_box(&inner),
             };
-            let d = target - o;
+            let mut d = target - o;
+            // Rays the batch walk hands to the one-ray walk (a zero direction component
+            // needs another child test), at the top level and inside the identity placement.
+            match i % 11 {
+                7 => d = Vec3::new(0.0, 0.0, -d.z.abs().max(1.0)),
+                9 => d.y = 0.0,
+                _ => {}
+            }
             let t_max = if i % 9 == 4 {
                 rng.range(0.3, 0.9)
             } else {

@@ -400,4 +400,9 @@ where
     fn took_entered(leaves: &mut PackedWatertight<'a>, slot: Option<u32>) {
         leaves.took_entered(slot);
     }
+
+    #[inline(always)]
+    fn alone(leaves: &mut PackedWatertight<'a>) {
+        leaves.test_instances();
+    }
 }

@@ -151,6 +151,13 @@ impl<'a> PackedWatertight<'a> {
         self.deferred = 0..0;
     }
 
+    /// Tests instances as nested queries again (a ray the walk that enters them hands to the
+    /// one-ray walk).
+    #[inline(always)]
+    pub(crate) fn test_instances(&mut self) {
+        self.enters_instances = false;
+    }
+
     /// The next instance the last leaf test left to be entered: its primitive and instance.
     #[inline(always)]
     pub(crate) fn next_instance(&mut self) -> Option<(u32, u32)> {

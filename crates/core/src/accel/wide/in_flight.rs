@@ -48,6 +48,10 @@ pub(crate) trait NearestQueries<'a> {
 
     /// Records that the walk's best hit is now one found inside an instance.
     fn took_entered(leaves: &mut Self::Leaves, slot: Option<u32>);
+
+    /// Makes `leaves` test instances themselves, as nested queries: for a ray walked whole
+    /// by the one-ray walk, which enters none.
+    fn alone(leaves: &mut Self::Leaves);
 }
 
 impl WideBvh<8> {
@@ -64,6 +68,7 @@ impl WideBvh<8> {
             return unsafe { self.in_flight_avx2::<K, Q>(queries, stats) };
         }
         while let Some((id, ray, mut leaves)) = queries.next(stats) {
+            Q::alone(&mut leaves);
             let hit = self.intersect(&ray, stats, &mut leaves);
             queries.answer(id, &ray, hit, &leaves);
         }
@@ -167,6 +172,7 @@ impl WideBvh<8> {
         mut leaves: Q::Leaves,
         stats: &mut TraversalStats,
     ) {
+        Q::alone(&mut leaves);
         let hit = self.intersect(ray, stats, &mut leaves);
         queries.answer(id, ray, hit, &leaves);
     }
