@@ -87,36 +87,60 @@ impl WideBvh<8> {
             stack: NearestStack::new(),
             ray: None,
         });
-        // Each lane's walk inside an instance, apart from the lanes (untouched without
-        // instances, so the lanes' stacks stay as close together as before).
-        let mut insides: [InsideSlot<'a>; K] = std::array::from_fn(|_| InsideSlot::default());
         let mut live = 0;
         for lane in &mut lanes {
             lane.ray = self.start_next(queries, &mut lane.stack, stats);
             live += lane.ray.is_some() as usize;
         }
+        if Q::ENTERS_INSTANCES {
+            return self.two_level_in_flight(&mut lanes, live, queries, stats);
+        }
         while live > 0 {
-            for (lane, inside) in lanes.iter_mut().zip(&mut insides) {
+            for lane in &mut lanes {
                 let Some(r) = &mut lane.ray else { continue };
                 // Up to and including the next node visit, which starts the loads this ray
                 // waits for next; the entries a leaf test pops were prefetched at their
                 // parent's visit (switching after leaf tests too measured 2-3% slower).
-                let going = if Q::ENTERS_INSTANCES {
-                    r.advance_two_level(self, &mut lane.stack, inside, queries, stats)
-                } else {
-                    let mut going = true;
-                    let mut visited_node = false;
-                    while going && !visited_node {
-                        visited_node = r.walk.at_node();
-                        going = r.walk.step(self, &mut lane.stack, &mut r.leaves, stats);
-                    }
-                    going
-                };
+                let mut going = true;
+                let mut visited_node = false;
+                while going && !visited_node {
+                    visited_node = r.walk.at_node();
+                    going = r.walk.step(self, &mut lane.stack, &mut r.leaves, stats);
+                }
                 if going {
                     continue;
                 }
                 queries.answer(r.id, &r.ray, r.walk.best(), &r.leaves);
                 lane.ray = self.start_next(queries, &mut lane.stack, stats);
+                live -= lane.ray.is_none() as usize;
+            }
+        }
+    }
+
+    /// The interleaved walks over a top level of instances: as the one-level loop, each ray
+    /// stepping into the instances its leaves leave (kept apart so the loop without
+    /// instances is unchanged).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn two_level_in_flight<'a, const K: usize, Q: NearestQueries<'a>>(
+        &self,
+        lanes: &mut [Lane<'a, Q>; K],
+        mut live: usize,
+        queries: &mut Q,
+        stats: &mut TraversalStats,
+    ) {
+        // Each lane's walk inside an instance, apart from the lanes (whose stacks stay as
+        // close together as without instances).
+        let mut insides: [InsideSlot<'a>; K] = std::array::from_fn(|_| InsideSlot::default());
+        while live > 0 {
+            for (lane, inside) in lanes.iter_mut().zip(&mut insides) {
+                let Some(r) = &mut lane.ray else { continue };
+                if r.advance_two_level(self, &mut lane.stack, inside, queries, stats) {
+                    continue;
+                }
+                queries.answer(r.id, &r.ray, r.walk.best(), &r.leaves);
+                lane.ray = self.start_next(queries, &mut lane.stack, stats);
+                inside.top_done = false;
                 live -= lane.ray.is_none() as usize;
             }
         }
@@ -149,7 +173,6 @@ impl WideBvh<8> {
                             ray,
                             leaves,
                             walk,
-                            top_done: false,
                         });
                     }
                     None => queries.answer(id, &ray, None, &leaves),
@@ -192,6 +215,8 @@ struct Lane<'a, Q: NearestQueries<'a>> {
 struct InsideSlot<'a> {
     stack: NearestStack,
     walk: Option<Inside<'a>>,
+    /// The ray's top-level walk is done (instances its last leaf left may still be entered).
+    top_done: bool,
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -200,6 +225,7 @@ impl Default for InsideSlot<'_> {
         Self {
             stack: NearestStack::new(),
             walk: None,
+            top_done: false,
         }
     }
 }
@@ -211,8 +237,6 @@ struct InFlight<'a, Q: NearestQueries<'a>> {
     ray: Ray,
     leaves: Q::Leaves,
     walk: NearestWalk<super::child_test::Avx2>,
-    /// The top-level walk is done (instances its last leaf left may still be entered).
-    top_done: bool,
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -297,12 +321,12 @@ impl<'a, Q: NearestQueries<'a>> InFlight<'a, Q> {
                     }
                 }
             }
-            if self.top_done {
+            if inside.top_done {
                 return false;
             }
             let at_node = self.walk.at_node();
-            self.top_done = !self.walk.step(bvh, stack, &mut self.leaves, stats);
-            if at_node && !self.top_done {
+            inside.top_done = !self.walk.step(bvh, stack, &mut self.leaves, stats);
+            if at_node && !inside.top_done {
                 return true;
             }
         }
