@@ -291,7 +291,7 @@ fn nearest_record(world: &World, traced: Option<Traced>) -> HitRecord {
     };
     // The normal on the ray the hit was found on (a far ray's was moved near the scene).
     let Hit { prim, hit } = traced.hit;
-    let instance = g.has_instances().then(|| g.instance_of(prim)).flatten();
+    let instance = g.instance_of(prim);
     HitRecord {
         t: traced.t,
         // An instance's hit names the prototype's primitive, as Embree's `primID` does.

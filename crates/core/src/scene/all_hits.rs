@@ -52,7 +52,7 @@ impl World {
                 t: h.t,
                 prim: h.prim,
                 object: scene.object_at(h.prim, h.hit.inner),
-                instance: g.has_instances().then(|| g.instance_of(h.prim)).flatten(),
+                instance: g.instance_of(h.prim),
                 inner: h.hit.inner,
                 u: h.hit.u,
                 v: h.hit.v,

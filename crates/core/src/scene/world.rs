@@ -177,7 +177,7 @@ impl World {
             t: traced.t,
             prim,
             inner: hit.inner,
-            instance: g.has_instances().then(|| g.instance_of(prim)).flatten(),
+            instance: g.instance_of(prim),
             object: self.scene.object_at(prim, hit.inner),
             surface: self
                 .scene
