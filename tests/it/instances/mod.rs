@@ -14,3 +14,4 @@ mod fixtures;
 mod flattened;
 mod hard;
 mod in_flight;
+mod one_instance;

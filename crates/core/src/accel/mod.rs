@@ -17,6 +17,7 @@ mod build;
 mod bvh;
 mod exhaustive;
 pub(crate) mod leaves;
+mod one_instance;
 mod packed;
 mod query;
 pub(crate) mod sah;
@@ -190,6 +191,8 @@ pub struct Accel {
     frame: RayFrame,
     /// The triangles in the wide hierarchy's leaf order (see [`Accel::build_for`]).
     packed: Option<Arc<PackedLeaves>>,
+    /// The scene is one instance, which queries ask at once (see `one_instance`).
+    only_instance: Option<one_instance::OnlyInstance>,
 }
 
 #[derive(Clone, Debug)]
@@ -229,6 +232,7 @@ impl Accel {
             traversal: Traversal::Ordered,
             frame: RayFrame::new(scene),
             packed: None,
+            only_instance: None,
         }
     }
 
@@ -248,6 +252,7 @@ impl Accel {
         if let Structure::Wide(w) = &accel.structure {
             accel.packed = Some(Arc::new(PackedLeaves::new(geometry, w.prim_order())));
         }
+        accel.note_only_instance(geometry);
         accel
     }
 
@@ -315,6 +320,7 @@ impl Accel {
         if let (Structure::Wide(w), false) = (&self.structure, traversal == Traversal::Ordered) {
             self.structure = Structure::Bvh(w.to_binary());
             self.packed = None;
+            self.only_instance = None;
         }
         self
     }

@@ -29,7 +29,7 @@ pub struct Traced {
 impl Traced {
     /// A hit found on `ray`, whose caller's `t` is `t`.
     #[inline(always)]
-    fn on(ray: &Ray, (hit, slot): (Hit, Option<u32>), t: f32) -> Self {
+    pub(super) fn on(ray: &Ray, (hit, slot): (Hit, Option<u32>), t: f32) -> Self {
         Self {
             hit,
             ray: Ray {
@@ -100,6 +100,9 @@ impl Accel {
         let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) else {
             return false;
         };
+        if let Some(only) = self.only_instance() {
+            return self.trace_packet_in_only_instance(only, geometry, rays, stats, out);
+        }
         if rays.len() > PACKET || !rays.iter().all(|r| self.frame.holds(r.origin)) {
             return false;
         }
@@ -121,6 +124,22 @@ impl Accel {
     /// `wide::in_flight`; `K = 1`: one at a time). The answers are those of
     /// [`Accel::trace_geometry`], bit for bit, in the order the rays finish.
     pub fn trace_geometry_each<const K: usize, Id: Copy>(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        stats: &mut TraversalStats,
+        rays: impl FnMut() -> Option<(Id, Ray)>,
+        answer: impl FnMut(Id, Option<Traced>),
+    ) {
+        if let (Precision::Watertight, Some(only), true) = (precision, self.only_instance(), K > 1)
+        {
+            return self.trace_each_in_only_instance::<K, _>(only, geometry, stats, rays, answer);
+        }
+        self.trace_each_walked::<K, _>(geometry, precision, stats, rays, answer)
+    }
+
+    /// [`Accel::trace_geometry_each`] through this accelerator's own walk.
+    pub(super) fn trace_each_walked<const K: usize, Id: Copy>(
         &self,
         geometry: &Geometry,
         precision: Precision,
@@ -181,6 +200,9 @@ impl Accel {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> Option<(Hit, Option<u32>)> {
+        if let Some(only) = self.only_instance() {
+            return only.nearest(geometry, precision, ray, stats);
+        }
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
             let mut test = PackedWatertight::new(packed, geometry);
             let hit = wide.intersect(ray, stats, &mut test)?;
@@ -231,6 +253,9 @@ impl Accel {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> bool {
+        if let Some(only) = self.only_instance() {
+            return only.blocks(geometry, precision, ray);
+        }
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
             return wide.occluded(ray, stats, PackedWatertight::for_any(packed, geometry));
         }

@@ -232,7 +232,7 @@ impl Geometry {
     /// on `ray`, the prototype's barycentrics and, in [`PrimHit::inner`], the prototype's
     /// primitive.
     #[inline(never)]
-    pub(super) fn intersect_instance(
+    pub(crate) fn intersect_instance(
         &self,
         instance: u32,
         ray: &Ray,
@@ -248,7 +248,7 @@ impl Geometry {
     /// over the clipped interval (the verdict of [`Geometry::intersect_instance`], found
     /// without looking for the nearest); a moved ray asks for the nearest hit.
     #[inline(never)]
-    pub(super) fn instance_blocks(&self, instance: u32, ray: &Ray, precision: Precision) -> bool {
+    pub(crate) fn instance_blocks(&self, instance: u32, ray: &Ray, precision: Precision) -> bool {
         let Some((inst, framing, object)) = self.instance_ray(instance, ray) else {
             return false;
         };
