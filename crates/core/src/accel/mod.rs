@@ -11,6 +11,7 @@
 //! ties broken towards the lower primitive index.
 
 mod all_hits;
+mod batch_queries;
 mod brute;
 mod bsp;
 mod build;

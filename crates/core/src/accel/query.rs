@@ -4,10 +4,8 @@
 //! far away (the hit's `t` is then mapped back to the caller's ray), or not at all.
 
 use super::PackedWatertight;
-use super::wide::{Entered, Inside, NearestQueries, NearestStack, inside};
-use super::{
-    Accel, Hit, PACKET, PackedLeaves, PrimHit, Structure, Traversal, TraversalStats, leaves,
-};
+use super::batch_queries::PackedQueries;
+use super::{Accel, Hit, PACKET, PrimHit, Structure, Traversal, TraversalStats, leaves};
 use crate::geometry::{Geometry, Precision, with_prim_test};
 use crate::math::Ray;
 
@@ -89,6 +87,7 @@ impl Accel {
     /// `wide::packet`): each ray's answer into `out`, bit for bit what `trace_geometry` gives
     /// it. `false`, with nothing written, when the rays cannot share a walk (other origins, the
     /// far-away framing, another precision or structure): trace them one at a time.
+    #[inline(always)]
     pub fn trace_packet(
         &self,
         geometry: &Geometry,
@@ -98,11 +97,9 @@ impl Accel {
         out: &mut [Option<Traced>],
     ) -> bool {
         let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) else {
-            return false;
+            return precision == Precision::Watertight
+                && self.trace_packet_in_only_instance(geometry, rays, stats, out);
         };
-        if let Some(only) = self.only_instance() {
-            return self.trace_packet_in_only_instance(only, geometry, rays, stats, out);
-        }
         if rays.len() > PACKET || !rays.iter().all(|r| self.frame.holds(r.origin)) {
             return false;
         }
@@ -177,7 +174,7 @@ impl Accel {
     /// [`Accel::trace_geometry`] of a ray from outside the near region.
     #[cold]
     #[inline(never)]
-    fn trace_far(
+    pub(super) fn trace_far(
         &self,
         geometry: &Geometry,
         precision: Precision,
@@ -200,13 +197,13 @@ impl Accel {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> Option<(Hit, Option<u32>)> {
-        if let Some(only) = self.only_instance() {
-            return only.nearest(geometry, precision, ray, stats);
-        }
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
             let mut test = PackedWatertight::new(packed, geometry);
             let hit = wide.intersect(ray, stats, &mut test)?;
             return Some((hit, test.best_slot()));
+        }
+        if let Some(only) = self.only_instance() {
+            return only.nearest(geometry, precision, ray, stats);
         }
         // One traversal instantiation per precision, chosen once per ray.
         let hit = with_prim_test!(geometry, precision, ray, |test| self
@@ -253,11 +250,11 @@ impl Accel {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> bool {
-        if let Some(only) = self.only_instance() {
-            return only.blocks(geometry, precision, ray);
-        }
         if let (Precision::Watertight, Some((wide, packed))) = (precision, self.packed()) {
             return wide.occluded(ray, stats, PackedWatertight::for_any(packed, geometry));
+        }
+        if let Some(only) = self.only_instance() {
+            return only.blocks(geometry, precision, ray);
         }
         if geometry.has_instances() {
             // Instances answer any-hit queries with their own any-hit walk.
@@ -347,87 +344,5 @@ impl Accel {
                 b.occluded_segments(ray, p, stats, test)
             }
         }
-    }
-}
-
-/// The rays of [`Accel::trace_geometry_each`] through the packed leaves: those the frame
-/// holds go to the batch walk, the others are traced on the way, as `trace_geometry` would.
-/// `ENTERS`: the geometry has instances, which the batch walk enters in place.
-struct PackedQueries<'a, R, A, const ENTERS: bool> {
-    accel: &'a Accel,
-    geometry: &'a Geometry,
-    packed: &'a PackedLeaves,
-    rays: R,
-    answer: A,
-}
-
-impl<'a, Id, R, A, const ENTERS: bool> NearestQueries<'a> for PackedQueries<'a, R, A, ENTERS>
-where
-    Id: Copy,
-    R: FnMut() -> Option<(Id, Ray)>,
-    A: FnMut(Id, Option<Traced>),
-{
-    type Id = Id;
-    type Leaves = PackedWatertight<'a>;
-    const ENTERS_INSTANCES: bool = ENTERS;
-
-    #[inline(always)]
-    fn next(&mut self, stats: &mut TraversalStats) -> Option<(Id, Ray, PackedWatertight<'a>)> {
-        loop {
-            let (id, ray) = (self.rays)()?;
-            if self.accel.frame.holds(ray.origin) {
-                let leaves = if ENTERS {
-                    PackedWatertight::entering_instances(self.packed, self.geometry)
-                } else {
-                    PackedWatertight::new(self.packed, self.geometry)
-                };
-                return Some((id, ray, leaves));
-            }
-            let far = self
-                .accel
-                .trace_far(self.geometry, Precision::Watertight, &ray, stats);
-            (self.answer)(id, far);
-        }
-    }
-
-    #[inline(always)]
-    fn answer(&mut self, id: Id, ray: &Ray, hit: Option<Hit>, leaves: &PackedWatertight<'a>) {
-        // As `trace_geometry` answers a ray the frame holds.
-        let traced = hit.map(|h| Traced::on(ray, (h, leaves.best_slot()), h.hit.t));
-        (self.answer)(id, traced);
-    }
-
-    #[inline(always)]
-    fn enter(
-        &self,
-        leaves: &mut PackedWatertight<'a>,
-        ray: &Ray,
-        stack: &mut NearestStack,
-        walk: &mut Option<Inside<'a>>,
-    ) -> Option<Entered> {
-        let (prim, instance) = leaves.next_instance()?;
-        Some(inside::enter(
-            self.geometry,
-            prim,
-            instance,
-            ray,
-            stack,
-            walk,
-        ))
-    }
-
-    #[inline(always)]
-    fn leave(&self, inside: &Inside<'a>) -> Option<(u32, PrimHit, Option<u32>)> {
-        inside.answer()
-    }
-
-    #[inline(always)]
-    fn took_entered(leaves: &mut PackedWatertight<'a>, slot: Option<u32>) {
-        leaves.took_entered(slot);
-    }
-
-    #[inline(always)]
-    fn alone(leaves: &mut PackedWatertight<'a>) {
-        leaves.test_instances();
     }
 }

@@ -208,7 +208,7 @@ impl Geometry {
     /// box as the traversals compute it.
     #[inline(always)]
     fn clipped_object_ray(inst: &Instance, ray: &Ray) -> Option<Ray> {
-        let (near, far) = crate::math::slab::box_range(&inst.bounds, ray)?;
+        let (near, far) = crate::math::slab::box_range_inline(&inst.bounds, ray)?;
         let clipped = Ray {
             t_min: ray.t_min.max(near.next_down()),
             t_max: ray.t_max.min(far),

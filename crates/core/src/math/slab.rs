@@ -145,6 +145,18 @@ pub(crate) fn box_range(b: &Aabb, ray: &Ray) -> Option<(f32, f32)> {
     with_slab!(ray, |slab| slab.range(b, f32::NEG_INFINITY, f32::INFINITY))
 }
 
+/// [`box_range`] with its common case inline: a direction whose components are all finite,
+/// non-zero and not huge takes the `f32` test here; the others take `box_range` itself. Per
+/// instance entered, the out-of-line call with its three kinds of test cost more than the test.
+#[inline(always)]
+pub(crate) fn box_range_inline(b: &Aabb, ray: &Ray) -> Option<(f32, f32)> {
+    let inv = crate::math::safe_inverse(ray.dir);
+    if SlabKind::with_inverse(ray, inv) == SlabKind::Finite {
+        return SlabF32::<false>::with_inverse(ray, inv).range(b, f32::NEG_INFINITY, f32::INFINITY);
+    }
+    box_range(b, ray)
+}
+
 /// Runs `$body` with `$slab` bound to the slab test `$ray` needs (a macro, because each arm
 /// instantiates the traversal for a different test type).
 macro_rules! with_slab {
