@@ -61,14 +61,10 @@ pub fn camera() -> Camera {
     .expect("valid camera")
 }
 
-/// The placements as instances of one two-part prototype, after a plain triangle of the top
-/// level (so primitives of both levels meet).
-pub fn instanced(placements: &[DAffine3]) -> Scene {
+/// The two-part prototype ([`prototype_parts`], named `ball` and `moon`) of material `m`.
+pub fn add_prototype(b: &mut SceneBuilder, m: u32) -> u32 {
     let (mesh, sphere) = prototype_parts();
-    let mut b = SceneBuilder::new();
-    let m = b.add_material(Material::default());
-    b.add_mesh("ground", ground(), m);
-    let proto = b.add_prototype(vec![
+    b.add_prototype(vec![
         Part {
             name: "ball".into(),
             shape: Shape::Mesh(mesh),
@@ -79,7 +75,16 @@ pub fn instanced(placements: &[DAffine3]) -> Scene {
             shape: Shape::Sphere(sphere),
             material: m,
         },
-    ]);
+    ])
+}
+
+/// The placements as instances of one two-part prototype, after a plain triangle of the top
+/// level (so primitives of both levels meet).
+pub fn instanced(placements: &[DAffine3]) -> Scene {
+    let mut b = SceneBuilder::new();
+    let m = b.add_material(Material::default());
+    b.add_mesh("ground", ground(), m);
+    let proto = add_prototype(&mut b, m);
     for (i, p) in placements.iter().enumerate() {
         b.add_instance(proto, format!("copy{i}"), *p);
     }

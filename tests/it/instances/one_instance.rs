@@ -4,7 +4,7 @@
 //! verdicts, and whole renders (camera packets, shadows, reflections), under every transform
 //! class, tiny and huge placements, and rays from far away and along the axes.
 
-use super::fixtures::{placements, prototype_parts};
+use super::fixtures::{add_prototype, placements};
 use crate::common::Rng;
 use glam::{DAffine3, DQuat, DVec3};
 use lumis_core::accel::{AccelKind, BuildOptions, PACKET, Traced};
@@ -13,7 +13,7 @@ use lumis_core::geometry::Precision;
 use lumis_core::material::Material;
 use lumis_core::math::{Aabb, Ray, Vec3};
 use lumis_core::render::{RenderOptions, render};
-use lumis_core::scene::{Part, Scene, SceneBuilder, Shape, World, default_rig, framing_camera};
+use lumis_core::scene::{Scene, SceneBuilder, World, default_rig, framing_camera};
 
 /// The fixture's placements and the extremes: 1e-6 and 1e6 scales, one a million units away.
 fn one_placements() -> Vec<DAffine3> {
@@ -31,24 +31,12 @@ fn one_placements() -> Vec<DAffine3> {
 
 /// One instance of the fixture's two-part prototype and nothing else.
 fn one(placement: DAffine3, spp: u32) -> Scene {
-    let (mesh, sphere) = prototype_parts();
     let mut b = SceneBuilder::new();
     let m = b.add_material(Material {
         reflectivity: 0.3,
         ..Material::default()
     });
-    let proto = b.add_prototype(vec![
-        Part {
-            name: "ball".into(),
-            shape: Shape::Mesh(mesh),
-            material: m,
-        },
-        Part {
-            name: "moon".into(),
-            shape: Shape::Sphere(sphere),
-            material: m,
-        },
-    ]);
+    let proto = add_prototype(&mut b, m);
     b.add_instance(proto, "only", placement);
     // Framed and lit as `lumis` frames a model file without a camera.
     let camera = framing_camera(b.bounds(), 48, 32);
