@@ -214,7 +214,9 @@ impl Expect {
 /// The first crossing whose offset ([`Root::dt`]) is not its `t` minus the reference
 /// parameter `t_ref`, beyond the rounding of the three: the ordering check compares offsets,
 /// so an offset with a wrong sign or scale (as the spheres' once had) would blame a correct
-/// answer while every printed `t` looks right.
+/// answer while every printed `t` looks right. A sphere's offset is a difference that may
+/// cancel (its crossing at the reference point): its rounding counts against the size of the
+/// terms ([`Root::dt_scale`]), not of the result.
 fn inconsistent_offset(frame: &Frame, classes: &[(Class, Option<Crossing>)]) -> Option<String> {
     let t_ref = frame.t_ref;
     // `width`: the magnitude of a pad subtracted from both (an ambiguous range's).
@@ -232,9 +234,10 @@ fn inconsistent_offset(frame: &Frame, classes: &[(Class, Option<Crossing>)]) -> 
         .iter()
         .enumerate()
         .find_map(|(i, (class, _))| match class {
-            Class::Hit(roots) => roots
-                .iter()
-                .find_map(|r| bad(&format!("primitive {i}'s crossing"), r.t, r.dt, 0.0)),
+            Class::Hit(roots) => roots.iter().find_map(|r| {
+                let what = format!("primitive {i}'s crossing");
+                bad(&what, r.t, r.dt, r.dt_scale)
+            }),
             Class::Ambiguous { lo, hi, dt_lo } if dt_lo.is_finite() => {
                 let what = format!("primitive {i}'s earliest crossing");
                 bad(&what, *lo, *dt_lo, hi - lo)

@@ -56,6 +56,10 @@ pub struct Root {
     /// before rounding: crossings `1 -+ 1e-20` of a far ray are both `t = 1.0` in `f64`, but
     /// their offsets keep them apart for the ordering check.
     pub dt: f64,
+    /// The size of the terms `dt` was computed from, which its rounding is relative to: a
+    /// sphere's offset is the difference `dt_c -+ half`, which cancels to far below both when
+    /// the crossing is near the reference point.
+    pub dt_scale: f64,
     /// How far the displaced line's crossing may move in `t` (the rounding of the returned `t`
     /// is not included: see [`Frame::tol`]).
     pub shift: f64,
@@ -165,7 +169,12 @@ impl Frame {
         };
         let dist = [edge(0), edge(1), edge(2)];
         let margin = self.delta * (1.0 + SLACK);
-        let root = Root { t, dt, shift };
+        let root = Root {
+            t,
+            dt,
+            dt_scale: dt.abs(),
+            shift,
+        };
         let class = if dist.iter().all(|&x| x > margin) {
             Class::Hit(vec![root])
         } else if dist.iter().any(|&x| x < -margin) {
@@ -235,11 +244,13 @@ impl Frame {
             Root {
                 t: t0,
                 dt: dt_c - half,
+                dt_scale: dt_c.abs() + half,
                 shift,
             },
             Root {
                 t: t1,
                 dt: dt_c + half,
+                dt_scale: dt_c.abs() + half,
                 shift,
             },
         ])
