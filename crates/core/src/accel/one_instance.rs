@@ -15,7 +15,7 @@
 use std::cell::RefCell;
 
 use super::{Accel, Hit, PACKET, PrimHit, Traced, TraversalStats};
-use crate::geometry::{Geometry, Precision, Primitive};
+use crate::geometry::{ENTRY_BLOCK, Entry, Geometry, Precision, Primitive};
 use crate::math::{Ray, Vec3};
 
 /// The one primitive of a top level made of one instance, and that instance.
@@ -167,21 +167,48 @@ impl Accel {
         };
         let answer = RefCell::new(answer);
         let mut aside = TraversalStats::default();
+        // The rays enter the instance `ENTRY_BLOCK` at a time (`Geometry::enter_instance`).
+        let mut block = EntryBlock::<Id>::new();
         let pull = || {
             loop {
-                let (id, ray) = rays()?;
-                if self.frame.holds(ray.origin) {
-                    match only.object_ray(geometry, &ray) {
-                        Ok(Some(object)) => return Some(((id, ray), object)),
-                        Ok(None) => {
-                            (answer.borrow_mut())(id, None);
+                if block.next == block.len {
+                    block.next = 0;
+                    block.len = 0;
+                    while block.len < ENTRY_BLOCK {
+                        let Some((id, ray)) = rays() else { break };
+                        if !self.frame.holds(ray.origin) {
+                            // Moved near the scene first: the top level's query frames it.
+                            let traced = self.trace_geometry(geometry, precision, &ray, &mut aside);
+                            (answer.borrow_mut())(id, traced);
                             continue;
                         }
-                        Err(()) => {}
+                        block.ids[block.len] = Some(id);
+                        block.rays[block.len] = ray;
+                        block.len += 1;
+                    }
+                    if block.len == 0 {
+                        return None;
+                    }
+                    let n = block.len;
+                    geometry.enter_instance(
+                        only.instance,
+                        &block.rays[..n],
+                        &mut block.entries[..n],
+                    );
+                }
+                let k = block.next;
+                block.next += 1;
+                let (Some(id), ray) = (block.ids[k], block.rays[k]) else {
+                    unreachable!("rays below `len` have ids")
+                };
+                match block.entries[k] {
+                    Entry::Object(object) => return Some(((id, ray), object)),
+                    Entry::Misses => (answer.borrow_mut())(id, None),
+                    Entry::Framed => {
+                        let traced = self.trace_geometry(geometry, precision, &ray, &mut aside);
+                        (answer.borrow_mut())(id, traced);
                     }
                 }
-                let traced = self.trace_geometry(geometry, precision, &ray, &mut aside);
-                (answer.borrow_mut())(id, traced);
             }
         };
         accel.trace_each_walked::<K, _>(
@@ -263,5 +290,27 @@ impl Accel {
             };
         }
         true
+    }
+}
+
+/// Rays of a batch waiting to be walked, entered into the instance together.
+struct EntryBlock<Id> {
+    ids: [Option<Id>; ENTRY_BLOCK],
+    rays: [Ray; ENTRY_BLOCK],
+    entries: [Entry; ENTRY_BLOCK],
+    /// Rays held, and the next one to hand out.
+    len: usize,
+    next: usize,
+}
+
+impl<Id: Copy> EntryBlock<Id> {
+    fn new() -> Self {
+        Self {
+            ids: [None; ENTRY_BLOCK],
+            rays: [Ray::new(Vec3::ZERO, Vec3::X); ENTRY_BLOCK],
+            entries: [Entry::Misses; ENTRY_BLOCK],
+            len: 0,
+            next: 0,
+        }
     }
 }

@@ -68,7 +68,7 @@ pub struct Instance {
     /// Its world box (see [`Placement::world_bounds`]).
     pub bounds: Aabb,
     /// Where rays are traced from into it (far origins are moved near it first).
-    frame: RayFrame,
+    pub(super) frame: RayFrame,
 }
 
 impl Geometry {

@@ -65,6 +65,11 @@ impl Placement {
         self.to_world
     }
 
+    /// World space to object space.
+    pub(crate) fn world_to_object(&self) -> DAffine3 {
+        self.to_object
+    }
+
     /// True when the placement mirrors (negative determinant).
     pub fn mirrors(&self) -> bool {
         self.mirrors

@@ -91,7 +91,7 @@ impl Slab for SlabF64 {
 
 /// Direction components above this send a ray to the `f64` test: with `|d| > 2^96`, a box
 /// 2^-30 away is entered at `t < 2^-126`, where `f32` keeps fewer bits than the widening covers.
-const HUGE_COMPONENT: f32 = 7.922_816e28; // 2^96
+pub(crate) const HUGE_COMPONENT: f32 = 7.922_816e28; // 2^96
 
 /// Which slab test a ray needs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
