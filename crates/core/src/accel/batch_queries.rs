@@ -11,11 +11,30 @@ use crate::math::Ray;
 /// holds go to the batch walk, the others are traced on the way, as `trace_geometry` would.
 /// `ENTERS`: the geometry has instances, which the batch walk enters in place.
 pub(super) struct PackedQueries<'a, R, A, const ENTERS: bool> {
-    pub(super) accel: &'a Accel,
-    pub(super) geometry: &'a Geometry,
-    pub(super) packed: &'a PackedLeaves,
-    pub(super) rays: R,
-    pub(super) answer: A,
+    accel: &'a Accel,
+    geometry: &'a Geometry,
+    packed: &'a PackedLeaves,
+    rays: R,
+    answer: A,
+}
+
+impl<'a, R, A, const ENTERS: bool> PackedQueries<'a, R, A, ENTERS> {
+    /// The rays of `rays`, answered to `answer`, through the accelerator, shapes and packed
+    /// leaves of `parts`.
+    #[inline(always)]
+    pub(super) fn new(
+        (accel, geometry, packed): (&'a Accel, &'a Geometry, &'a PackedLeaves),
+        rays: R,
+        answer: A,
+    ) -> Self {
+        Self {
+            accel,
+            geometry,
+            packed,
+            rays,
+            answer,
+        }
+    }
 }
 
 impl<'a, Id, R, A, const ENTERS: bool> NearestQueries<'a> for PackedQueries<'a, R, A, ENTERS>

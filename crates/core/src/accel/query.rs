@@ -147,23 +147,12 @@ impl Accel {
         if let (Precision::Watertight, Some((wide, packed)), true) =
             (precision, self.packed(), K > 1)
         {
+            let parts = (self, geometry, packed);
             if geometry.has_instances() {
-                let mut queries = PackedQueries::<_, _, true> {
-                    accel: self,
-                    geometry,
-                    packed,
-                    rays,
-                    answer,
-                };
+                let mut queries = PackedQueries::<_, _, true>::new(parts, rays, answer);
                 return wide.intersect_in_flight::<K, _>(&mut queries, stats);
             }
-            let mut queries = PackedQueries::<_, _, false> {
-                accel: self,
-                geometry,
-                packed,
-                rays,
-                answer,
-            };
+            let mut queries = PackedQueries::<_, _, false>::new(parts, rays, answer);
             return wide.intersect_in_flight::<K, _>(&mut queries, stats);
         }
         while let Some((id, ray)) = rays() {
