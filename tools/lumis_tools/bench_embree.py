@@ -397,14 +397,23 @@ def main(argv=None):
               f"{a['hit_rate_embree']:>9.1%} {a['same_hit_miss']:>14.4%} {same_prim:>9} "
               f"{close_t:>9}")
     print()
+    top_level = (" (one instance: lumis's build_s is its top level only; the prototype's "
+                 "hierarchy is built at load)" if args.lumis_instance else "")
     print(f"build: Embree commit {e_build * 1e3:.1f} ms (CPU time {e_build_cpu * 1e3:.1f} ms), "
           f"lumis build_s {l_build * 1e3:.1f} ms; lumis/Embree build time "
-          f"{l_build / e_build:.2f}x (medians of {len(builds)} and {len(lumis_builds)})")
+          f"{l_build / e_build:.2f}x (medians of {len(builds)} and {len(lumis_builds)})"
+          f"{top_level}")
     print(f"(lumis first build of each process: median "
           f"{statistics.median(lumis_first_builds) * 1e3:.1f} ms; load_s, not in build: median "
           f"{statistics.median(lumis_loads):.2f} s)")
     prims = lumis_memory.get("prims")
-    if prims:
+    if prims and args.lumis_instance:
+        # The top level holds one primitive: per triangle of the model instead, build not
+        # measured (above).
+        accel, geom = lumis_memory["accel_bytes"], lumis_memory["geometry_bytes"]
+        print(f"lumis memory: {(accel + geom) / len(tris):.1f} B/tri of the model (its "
+              f"prototype and hierarchy, and the top level's {accel} B)")
+    elif prims:
         # Build throughput and memory per triangle, as `lumis hits --timings` reports them.
         print(f"lumis build: {prims / l_build / 1e6:.2f} Mtri/s on one thread "
               f"(Embree: {prims / e_build / 1e6:.2f} Mtri/s)")
