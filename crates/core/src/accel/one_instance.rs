@@ -174,8 +174,12 @@ impl Accel {
                 if block.next == block.len {
                     block.next = 0;
                     block.len = 0;
-                    while block.len < ENTRY_BLOCK {
-                        let Some((id, ray)) = rays() else { break };
+                    // The source is not asked again once it has run out.
+                    while block.len < ENTRY_BLOCK && !block.exhausted {
+                        let Some((id, ray)) = rays() else {
+                            block.exhausted = true;
+                            break;
+                        };
                         if !self.frame.holds(ray.origin) {
                             // Moved near the scene first: the top level's query frames it.
                             let traced = self.trace_geometry(geometry, precision, &ray, &mut aside);
@@ -301,6 +305,8 @@ struct EntryBlock<Id> {
     /// Rays held, and the next one to hand out.
     len: usize,
     next: usize,
+    /// The source has given its last ray.
+    exhausted: bool,
 }
 
 impl<Id: Copy> EntryBlock<Id> {
@@ -311,6 +317,7 @@ impl<Id: Copy> EntryBlock<Id> {
             entries: [Entry::Misses; ENTRY_BLOCK],
             len: 0,
             next: 0,
+            exhausted: false,
         }
     }
 }
