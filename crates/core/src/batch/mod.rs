@@ -296,10 +296,13 @@ fn nearest_record(world: &World, traced: Option<Traced>) -> HitRecord {
         t: traced.t,
         // An instance's hit names the prototype's primitive, as Embree's `primID` does.
         prim: Some(if instance.is_some() { hit.inner } else { prim }),
-        object: Some(scene.object_at(prim, hit.inner)),
+        object: Some(match instance {
+            Some(instance) => scene.instance_object(instance, hit.inner),
+            None => scene.object_of(prim),
+        }),
         u: hit.u,
         v: hit.v,
-        normal: world.geometric_normal(&traced),
+        normal: world.geometric_normal_in(&traced, instance),
         // A hit from the packed leaves is a triangle; only others read the primitive list.
         kind: Some(match traced.slot {
             Some(_) => PrimKind::Triangle,

@@ -38,23 +38,74 @@ impl Entry {
     }
 }
 
+/// The entries of a block of rays: lane `k`'s object-space ray in `objects[k]` when bit `k` of
+/// `object` is set; otherwise `Framed` when bit `k` of `framed` is, else `Misses`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Entries {
+    pub(crate) objects: [Ray; ENTRY_BLOCK],
+    pub(crate) object: u32,
+    pub(crate) framed: u32,
+}
+
+impl Entries {
+    /// No entries yet.
+    pub(crate) fn new() -> Self {
+        Self {
+            objects: [Ray::new(crate::math::Vec3::ZERO, crate::math::Vec3::X); ENTRY_BLOCK],
+            object: 0,
+            framed: 0,
+        }
+    }
+
+    /// The entry of lane `k`.
+    #[inline(always)]
+    pub(crate) fn entry(&self, k: usize) -> Entry {
+        if self.object & (1 << k) != 0 {
+            Entry::Object(self.objects[k])
+        } else if self.framed & (1 << k) != 0 {
+            Entry::Framed
+        } else {
+            Entry::Misses
+        }
+    }
+
+    /// Sets lane `k` to `entry`.
+    fn set(&mut self, k: usize, entry: Entry) {
+        let bit = 1 << k;
+        self.object &= !bit;
+        self.framed &= !bit;
+        match entry {
+            Entry::Object(ray) => {
+                self.objects[k] = ray;
+                self.object |= bit;
+            }
+            Entry::Misses => {}
+            Entry::Framed => self.framed |= bit,
+        }
+    }
+}
+
 impl Geometry {
     /// The entry of each of `rays` (at most [`ENTRY_BLOCK`]) into instance `instance`, in `out`.
-    pub(crate) fn enter_instance(&self, instance: u32, rays: &[Ray], out: &mut [Entry]) {
-        debug_assert!(rays.len() <= ENTRY_BLOCK && out.len() >= rays.len());
+    pub(crate) fn enter_instance(&self, instance: u32, rays: &[Ray], out: &mut Entries) {
+        debug_assert!(rays.len() <= ENTRY_BLOCK);
+        out.object = 0;
+        out.framed = 0;
         #[cfg(target_arch = "x86_64")]
         if !rays.is_empty() && std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: AVX2 is present.
             let lanes = unsafe { avx2::enter(&self.instances[instance as usize], rays, out) };
-            for (k, ray) in rays.iter().enumerate() {
-                if lanes & (1 << k) == 0 {
-                    out[k] = Entry::of(self.instance_ray_as_given(instance, ray));
-                }
+            // The lanes the common case does not cover (rare): one at a time.
+            let mut rest = !lanes & ((1 << rays.len()) - 1);
+            while rest != 0 {
+                let k = rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                out.set(k, Entry::of(self.instance_ray_as_given(instance, &rays[k])));
             }
             return;
         }
-        for (ray, entry) in rays.iter().zip(out) {
-            *entry = Entry::of(self.instance_ray_as_given(instance, ray));
+        for (k, ray) in rays.iter().enumerate() {
+            out.set(k, Entry::of(self.instance_ray_as_given(instance, ray)));
         }
     }
 }
@@ -63,10 +114,10 @@ impl Geometry {
 mod avx2 {
     use std::arch::x86_64::*;
 
-    use super::{ENTRY_BLOCK, Entry};
+    use super::Entries;
     use crate::geometry::instance::Instance;
     use crate::math::slab::HUGE_COMPONENT;
-    use crate::math::{ROBUST_BOX_SCALE, Ray, Vec3};
+    use crate::math::{ROBUST_BOX_SCALE, Ray};
 
     /// The lanes' rays as eight-wide columns.
     struct Columns {
@@ -76,28 +127,58 @@ mod avx2 {
         t_max: __m256,
     }
 
+    /// Eight rows of eight floats as eight columns (and back: the transpose is its own
+    /// inverse).
+    #[target_feature(enable = "avx2")]
+    fn transpose(r: [__m256; 8]) -> [__m256; 8] {
+        let t = [
+            _mm256_unpacklo_ps(r[0], r[1]),
+            _mm256_unpackhi_ps(r[0], r[1]),
+            _mm256_unpacklo_ps(r[2], r[3]),
+            _mm256_unpackhi_ps(r[2], r[3]),
+            _mm256_unpacklo_ps(r[4], r[5]),
+            _mm256_unpackhi_ps(r[4], r[5]),
+            _mm256_unpacklo_ps(r[6], r[7]),
+            _mm256_unpackhi_ps(r[6], r[7]),
+        ];
+        let u = [
+            _mm256_shuffle_ps::<0x44>(t[0], t[2]),
+            _mm256_shuffle_ps::<0xEE>(t[0], t[2]),
+            _mm256_shuffle_ps::<0x44>(t[1], t[3]),
+            _mm256_shuffle_ps::<0xEE>(t[1], t[3]),
+            _mm256_shuffle_ps::<0x44>(t[4], t[6]),
+            _mm256_shuffle_ps::<0xEE>(t[4], t[6]),
+            _mm256_shuffle_ps::<0x44>(t[5], t[7]),
+            _mm256_shuffle_ps::<0xEE>(t[5], t[7]),
+        ];
+        [
+            _mm256_permute2f128_ps::<0x20>(u[0], u[4]),
+            _mm256_permute2f128_ps::<0x20>(u[1], u[5]),
+            _mm256_permute2f128_ps::<0x20>(u[2], u[6]),
+            _mm256_permute2f128_ps::<0x20>(u[3], u[7]),
+            _mm256_permute2f128_ps::<0x31>(u[0], u[4]),
+            _mm256_permute2f128_ps::<0x31>(u[1], u[5]),
+            _mm256_permute2f128_ps::<0x31>(u[2], u[6]),
+            _mm256_permute2f128_ps::<0x31>(u[3], u[7]),
+        ]
+    }
+
+    /// The lanes' rays as eight-wide columns. A [`Ray`] is eight floats in field order
+    /// (`repr(C)`), so each is one row.
     #[target_feature(enable = "avx2")]
     fn columns(rays: &[Ray]) -> Columns {
         // Lanes past the rays repeat the first ray (their entries are not written).
-        let mut c = [[0.0f32; ENTRY_BLOCK]; 8];
-        for k in 0..ENTRY_BLOCK {
-            let r = rays.get(k).unwrap_or(&rays[0]);
-            let fields = [
-                r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.t_min, r.t_max,
-            ];
-            for (column, v) in c.iter_mut().zip(fields) {
-                column[k] = v;
-            }
-        }
-        let load = |v: &[f32; ENTRY_BLOCK]| {
-            // SAFETY: eight floats.
-            unsafe { _mm256_loadu_ps(v.as_ptr()) }
-        };
+        let rows = std::array::from_fn(|k| {
+            let r: *const Ray = rays.get(k).unwrap_or(&rays[0]);
+            // SAFETY: a ray is eight contiguous floats (`repr(C)`, checked in `math`).
+            unsafe { _mm256_loadu_ps(r.cast::<f32>()) }
+        });
+        let c = transpose(rows);
         Columns {
-            origin: [load(&c[0]), load(&c[1]), load(&c[2])],
-            dir: [load(&c[3]), load(&c[4]), load(&c[5])],
-            t_min: load(&c[6]),
-            t_max: load(&c[7]),
+            origin: [c[0], c[1], c[2]],
+            dir: [c[3], c[4], c[5]],
+            t_min: c[6],
+            t_max: c[7],
         }
     }
 
@@ -139,7 +220,7 @@ mod avx2 {
     /// Entries of `rays` into `inst` for the lanes the common case covers, written to `out`;
     /// returns those lanes as a bit mask (the caller enters the others one at a time).
     #[target_feature(enable = "avx2")]
-    pub(super) fn enter(inst: &Instance, rays: &[Ray], out: &mut [Entry]) -> u32 {
+    pub(super) fn enter(inst: &Instance, rays: &[Ray], out: &mut Entries) -> u32 {
         let c = columns(rays);
         let splat = |v: f32| _mm256_set1_ps(v);
         let abs = |v: __m256| _mm256_andnot_ps(splat(-0.0), v);
@@ -198,8 +279,8 @@ mod avx2 {
         // The object-space ray (`Placement::object_ray`), four lanes at a time in f64.
         let m = inst.placement.world_to_object();
         let cols = [m.matrix3.x_axis, m.matrix3.y_axis, m.matrix3.z_axis];
-        let mut origin = [[0.0f32; ENTRY_BLOCK]; 3];
-        let mut dir = [[0.0f32; ENTRY_BLOCK]; 3];
+        let mut origin = [[0.0f32; 4]; 6];
+        let mut dir = [[0.0f32; 4]; 6];
         for half in 0..2 {
             let wide = |v: __m256| {
                 let part = if half == 0 {
@@ -216,19 +297,24 @@ mod avx2 {
                 let od = _mm256_add_pd(_mm256_add_pd(term(0, o[0]), term(1, o[1])), term(2, o[2]));
                 let od = _mm256_add_pd(od, _mm256_set1_pd(m.translation[row]));
                 let dd = _mm256_add_pd(_mm256_add_pd(term(0, d[0]), term(1, d[1])), term(2, d[2]));
-                // SAFETY: four floats into eight.
+                // SAFETY: four floats each.
                 unsafe {
-                    _mm_storeu_ps(origin[row][4 * half..].as_mut_ptr(), _mm256_cvtpd_ps(od));
-                    _mm_storeu_ps(dir[row][4 * half..].as_mut_ptr(), _mm256_cvtpd_ps(dd));
+                    _mm_storeu_ps(origin[2 * row + half].as_mut_ptr(), _mm256_cvtpd_ps(od));
+                    _mm_storeu_ps(dir[2 * row + half].as_mut_ptr(), _mm256_cvtpd_ps(dd));
                 }
             }
         }
+        // SAFETY: eight floats each.
+        let load = |v: &[[f32; 4]; 6], a: usize| unsafe {
+            _mm256_loadu2_m128(v[2 * a + 1].as_ptr(), v[2 * a].as_ptr())
+        };
+        let origin: [__m256; 3] = std::array::from_fn(|a| load(&origin, a));
+        let dir: [__m256; 3] = std::array::from_fn(|a| load(&dir, a));
         // A usable image: finite, with a non-zero direction.
-        let load = |v: &[f32; ENTRY_BLOCK]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
         let mut finite = inside;
         let mut moving = _mm256_setzero_ps();
         for a in 0..3 {
-            let (o, d) = (load(&origin[a]), load(&dir[a]));
+            let (o, d) = (origin[a], dir[a]);
             finite = _mm256_and_ps(
                 finite,
                 _mm256_cmp_ps::<_CMP_LT_OQ>(abs(o), splat(f32::INFINITY)),
@@ -240,28 +326,17 @@ mod avx2 {
             moving = _mm256_or_ps(moving, _mm256_cmp_ps::<_CMP_NEQ_UQ>(d, splat(0.0)));
         }
         let usable = _mm256_movemask_ps(_mm256_and_ps(finite, moving)) as u32;
-        let mut t_mins = [0.0f32; ENTRY_BLOCK];
-        let mut t_maxs = [0.0f32; ENTRY_BLOCK];
-        // SAFETY: eight floats each.
-        unsafe {
-            _mm256_storeu_ps(t_mins.as_mut_ptr(), t_min);
-            _mm256_storeu_ps(t_maxs.as_mut_ptr(), t_max);
+        // The object-space rays as rows, written whole; only the usable covered lanes count.
+        let rows = transpose([
+            origin[0], origin[1], origin[2], dir[0], dir[1], dir[2], t_min, t_max,
+        ]);
+        for (k, row) in rows.iter().enumerate() {
+            let r: *mut Ray = &mut out.objects[k];
+            // SAFETY: a ray is eight contiguous floats (`repr(C)`, checked in `math`).
+            unsafe { _mm256_storeu_ps(r.cast::<f32>(), *row) };
         }
-        let mut lanes = covered;
-        while lanes != 0 {
-            let k = lanes.trailing_zeros() as usize;
-            lanes &= lanes - 1;
-            out[k] = if usable & (1 << k) != 0 {
-                Entry::Object(Ray {
-                    origin: Vec3::new(origin[0][k], origin[1][k], origin[2][k]),
-                    dir: Vec3::new(dir[0][k], dir[1][k], dir[2][k]),
-                    t_min: t_mins[k],
-                    t_max: t_maxs[k],
-                })
-            } else {
-                Entry::Misses
-            };
-        }
+        out.object = (out.object & !covered) | (covered & usable);
+        out.framed &= !covered;
         covered
     }
 }

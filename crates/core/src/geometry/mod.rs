@@ -24,7 +24,7 @@ pub use accuracy::{DEFAULT_EPSILON, Offset, Precision, check_cutoff, check_epsil
 pub use crossing::{Contact, Seam, Touch};
 pub use exact::{cross_sign, orient2d, triangle_area_is_zero};
 pub use instance::{Instance, PrototypeQueries};
-pub(crate) use instance_entries::{ENTRY_BLOCK, Entry};
+pub(crate) use instance_entries::{ENTRY_BLOCK, Entries, Entry};
 pub use mesh::{Mesh, MeshError};
 pub use mesh_attributes::{AlphaTest, HitAttributes, MeshAttributes, SharedAlphaTest};
 pub use placement::{Placement, PlacementError};

@@ -10,7 +10,11 @@ pub use glam::{Mat3, Mat4, Vec2, Vec3, Vec3A, Vec4};
 /// A ray `origin + t * dir`, valid for `t_min < t <= t_max` (world space).
 ///
 /// `dir` need not be normalised: `t` is measured in units of `dir`.
+///
+/// `repr(C)`: eight `f32`s in field order, so that eight rays load as the rows of an 8x8 block
+/// (`geometry::instance_entries`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct Ray {
     /// Where the ray starts.
     pub origin: Vec3,
@@ -21,6 +25,14 @@ pub struct Ray {
     /// Hits beyond this parameter are ignored; accelerators shrink it as they find hits.
     pub t_max: f32,
 }
+
+// The layout `repr(C)` promises: origin, direction, `t_min`, `t_max`, no padding.
+const _: () = {
+    assert!(std::mem::size_of::<Ray>() == 32);
+    assert!(std::mem::offset_of!(Ray, dir) == 12);
+    assert!(std::mem::offset_of!(Ray, t_min) == 24);
+    assert!(std::mem::offset_of!(Ray, t_max) == 28);
+};
 
 impl Ray {
     /// A ray over `(0, inf]`.

@@ -133,9 +133,15 @@ impl Scene {
     }
 
     /// The object of instance `instance` for its prototype's primitive `inner`.
+    #[inline]
     pub fn instance_object(&self, instance: u32, inner: u32) -> u32 {
         let proto = self.geometry.instances()[instance as usize].prototype;
-        let part = self.prototype_parts[proto as usize].partition_point(|&s| s <= inner) - 1;
+        let starts = &self.prototype_parts[proto as usize];
+        // A prototype of one part (most are) needs no search: per-hit records ask this.
+        let part = match starts.len() {
+            1 => 0,
+            _ => starts.partition_point(|&s| s <= inner) - 1,
+        };
         self.instance_objects[instance as usize] + part as u32
     }
 

@@ -157,14 +157,20 @@ impl World {
     /// A hit inside an instance walked in place carries the slot in its prototype's packed
     /// leaves: the object-space normal from there, mapped as the instance maps normals.
     pub fn geometric_normal(&self, traced: &Traced) -> Vec3 {
+        let instance = self.scene.geometry().instance_of(traced.hit.prim);
+        self.geometric_normal_in(traced, instance)
+    }
+
+    /// [`World::geometric_normal`] of a hit on `instance` (`None`: not on an instance), for
+    /// callers that know it already.
+    #[inline(always)]
+    pub(crate) fn geometric_normal_in(&self, traced: &Traced, instance: Option<u32>) -> Vec3 {
         let g = self.scene.geometry();
-        let packed = traced
-            .slot
-            .and_then(|slot| match g.instance_of(traced.hit.prim) {
-                None => self.accel.packed_corners(slot).map(unit_face_normal),
-                Some(instance) => Accel::prototype_corners(g, instance, slot)
-                    .map(|c| g.instance_world_normal(instance, unit_face_normal(c))),
-            });
+        let packed = traced.slot.and_then(|slot| match instance {
+            None => self.accel.packed_corners(slot).map(unit_face_normal),
+            Some(instance) => Accel::prototype_corners(g, instance, slot)
+                .map(|c| g.instance_world_normal(instance, unit_face_normal(c))),
+        });
         packed.unwrap_or_else(|| g.geometric_normal(traced.hit.prim, &traced.ray, &traced.hit.hit))
     }
 

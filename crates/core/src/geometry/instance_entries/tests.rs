@@ -134,18 +134,18 @@ fn every_lane_enters_as_the_one_ray_entry_does() {
                     }
                 })
                 .collect();
-            let mut out = [Entry::Misses; ENTRY_BLOCK];
-            g.enter_instance(0, &rays, &mut out[..n]);
+            let mut out = Entries::new();
+            g.enter_instance(0, &rays, &mut out);
             for (k, ray) in rays.iter().enumerate() {
                 let one = Entry::of(g.instance_ray_as_given(0, ray));
                 // `==` on the floats: +0 and -0 are equal (see the module docs).
-                assert_eq!(out[k], one, "lane {k} of {n}: {ray:?}");
+                assert_eq!(out.entry(k), one, "lane {k} of {n}: {ray:?}");
                 objects += matches!(one, Entry::Object(_)) as u32;
             }
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: AVX2 is present.
-                let lanes = unsafe { avx2::enter(&g.instances()[0], &rays, &mut out[..n]) };
+                let lanes = unsafe { avx2::enter(&g.instances()[0], &rays, &mut out) };
                 covered += lanes.count_ones();
             }
         }

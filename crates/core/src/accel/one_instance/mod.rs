@@ -12,10 +12,10 @@
 //! reports hits inside the instance's box, which the root's box holds. So they equal brute
 //! force over instances bit for bit (`tests/it/instances/one_instance.rs`).
 
-use std::cell::RefCell;
+mod batch;
 
 use super::{Accel, Hit, PACKET, PrimHit, Traced, TraversalStats};
-use crate::geometry::{ENTRY_BLOCK, Entry, Geometry, Precision, Primitive};
+use crate::geometry::{Geometry, Precision, Primitive};
 use crate::math::{Ray, Vec3};
 
 /// The one primitive of a top level made of one instance, and that instance.
@@ -143,90 +143,6 @@ impl Accel {
         }
     }
 
-    /// [`Accel::trace_geometry_each`] of a scene of one instance: rays whose object-space
-    /// images the prototype can trace as given go to its batch walk, `K` at a time; the others
-    /// are answered on the way as [`Accel::trace_geometry`] answers them.
-    #[inline(never)]
-    pub(super) fn trace_each_in_only_instance<const K: usize, Id: Copy>(
-        &self,
-        only: OnlyInstance,
-        geometry: &Geometry,
-        stats: &mut TraversalStats,
-        mut rays: impl FnMut() -> Option<(Id, Ray)>,
-        answer: impl FnMut(Id, Option<Traced>),
-    ) {
-        let precision = Precision::Watertight;
-        // Both the ray source (rays answered on the way) and the prototype's answers give
-        // answers; they take turns, never at once.
-        let Some((accel, shapes)) = only.prototype(geometry) else {
-            let mut answer = answer;
-            while let Some((id, ray)) = rays() {
-                answer(id, self.trace_geometry(geometry, precision, &ray, stats));
-            }
-            return;
-        };
-        let answer = RefCell::new(answer);
-        let mut aside = TraversalStats::default();
-        // The rays enter the instance `ENTRY_BLOCK` at a time (`Geometry::enter_instance`).
-        let mut block = EntryBlock::<Id>::new();
-        let pull = || {
-            loop {
-                if block.next == block.len {
-                    block.next = 0;
-                    block.len = 0;
-                    // The source is not asked again once it has run out.
-                    while block.len < ENTRY_BLOCK && !block.exhausted {
-                        let Some((id, ray)) = rays() else {
-                            block.exhausted = true;
-                            break;
-                        };
-                        if !self.frame.holds(ray.origin) {
-                            // Moved near the scene first: the top level's query frames it.
-                            let traced = self.trace_geometry(geometry, precision, &ray, &mut aside);
-                            (answer.borrow_mut())(id, traced);
-                            continue;
-                        }
-                        block.ids[block.len] = Some(id);
-                        block.rays[block.len] = ray;
-                        block.len += 1;
-                    }
-                    if block.len == 0 {
-                        return None;
-                    }
-                    let n = block.len;
-                    geometry.enter_instance(
-                        only.instance,
-                        &block.rays[..n],
-                        &mut block.entries[..n],
-                    );
-                }
-                let k = block.next;
-                block.next += 1;
-                let (Some(id), ray) = (block.ids[k], block.rays[k]) else {
-                    unreachable!("rays below `len` have ids")
-                };
-                match block.entries[k] {
-                    Entry::Object(object) => return Some(((id, ray), object)),
-                    Entry::Misses => (answer.borrow_mut())(id, None),
-                    Entry::Framed => {
-                        let traced = self.trace_geometry(geometry, precision, &ray, &mut aside);
-                        (answer.borrow_mut())(id, traced);
-                    }
-                }
-            }
-        };
-        accel.trace_each_walked::<K, _>(
-            shapes,
-            precision,
-            stats,
-            pull,
-            |(id, ray): (Id, Ray), found| {
-                (answer.borrow_mut())(id, found.map(|f| only.traced_on(&ray, f)));
-            },
-        );
-        *stats += aside;
-    }
-
     /// [`Accel::trace_packet`] of a scene of one instance: the packet's object-space rays as
     /// one packet of the prototype (they share an origin as the world rays do); rays that
     /// miss the instance's box ride along with an empty interval. `false` as `trace_packet`,
@@ -294,30 +210,5 @@ impl Accel {
             };
         }
         true
-    }
-}
-
-/// Rays of a batch waiting to be walked, entered into the instance together.
-struct EntryBlock<Id> {
-    ids: [Option<Id>; ENTRY_BLOCK],
-    rays: [Ray; ENTRY_BLOCK],
-    entries: [Entry; ENTRY_BLOCK],
-    /// Rays held, and the next one to hand out.
-    len: usize,
-    next: usize,
-    /// The source has given its last ray.
-    exhausted: bool,
-}
-
-impl<Id: Copy> EntryBlock<Id> {
-    fn new() -> Self {
-        Self {
-            ids: [None; ENTRY_BLOCK],
-            rays: [Ray::new(Vec3::ZERO, Vec3::X); ENTRY_BLOCK],
-            entries: [Entry::Misses; ENTRY_BLOCK],
-            len: 0,
-            next: 0,
-            exhausted: false,
-        }
     }
 }
