@@ -12,6 +12,7 @@
 //! comparisons, where the two are equal. `tests` check lanes against the scalar path.
 
 use super::Geometry;
+use super::frame::RayFrame;
 use crate::math::Ray;
 
 /// Rays entered at once.
@@ -39,12 +40,15 @@ impl Entry {
 }
 
 /// The entries of a block of rays: lane `k`'s object-space ray in `objects[k]` when bit `k` of
-/// `object` is set; otherwise `Framed` when bit `k` of `framed` is, else `Misses`.
+/// `object` is set; otherwise `Framed` when bit `k` of `framed` is, else `Misses`. Bit `k` of
+/// `held`: lane `k`'s object-space ray starts in the near region of the frame the entry was
+/// given (the prototype's: its walk takes that ray as given).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Entries {
     pub(crate) objects: [Ray; ENTRY_BLOCK],
     pub(crate) object: u32,
     pub(crate) framed: u32,
+    pub(crate) held: u32,
 }
 
 impl Entries {
@@ -54,6 +58,7 @@ impl Entries {
             objects: [Ray::new(crate::math::Vec3::ZERO, crate::math::Vec3::X); ENTRY_BLOCK],
             object: 0,
             framed: 0,
+            held: 0,
         }
     }
 
@@ -69,15 +74,17 @@ impl Entries {
         }
     }
 
-    /// Sets lane `k` to `entry`.
-    fn set(&mut self, k: usize, entry: Entry) {
+    /// Sets lane `k` to `entry`, held as `frame` holds it.
+    fn set(&mut self, k: usize, entry: Entry, frame: &RayFrame) {
         let bit = 1 << k;
         self.object &= !bit;
         self.framed &= !bit;
+        self.held &= !bit;
         match entry {
             Entry::Object(ray) => {
                 self.objects[k] = ray;
                 self.object |= bit;
+                self.held |= (frame.holds(ray.origin) as u32) << k;
             }
             Entry::Misses => {}
             Entry::Framed => self.framed |= bit,
@@ -86,26 +93,40 @@ impl Entries {
 }
 
 impl Geometry {
-    /// The entry of each of `rays` (at most [`ENTRY_BLOCK`]) into instance `instance`, in `out`.
-    pub(crate) fn enter_instance(&self, instance: u32, rays: &[Ray], out: &mut Entries) {
+    /// The entry of each of `rays` (at most [`ENTRY_BLOCK`]) into instance `instance`, in `out`,
+    /// with the object-space rays `frame` holds marked.
+    pub(crate) fn enter_instance(
+        &self,
+        instance: u32,
+        rays: &[Ray],
+        frame: &RayFrame,
+        out: &mut Entries,
+    ) {
         debug_assert!(rays.len() <= ENTRY_BLOCK);
         out.object = 0;
         out.framed = 0;
+        out.held = 0;
         #[cfg(target_arch = "x86_64")]
         if !rays.is_empty() && std::arch::is_x86_feature_detected!("avx2") {
+            let inst = &self.instances[instance as usize];
             // SAFETY: AVX2 is present.
-            let lanes = unsafe { avx2::enter(&self.instances[instance as usize], rays, out) };
+            let lanes = unsafe { avx2::enter(inst, rays, frame, out) };
             // The lanes the common case does not cover (rare): one at a time.
             let mut rest = !lanes & ((1 << rays.len()) - 1);
             while rest != 0 {
                 let k = rest.trailing_zeros() as usize;
                 rest &= rest - 1;
-                out.set(k, Entry::of(self.instance_ray_as_given(instance, &rays[k])));
+                let entry = Entry::of(self.instance_ray_as_given(instance, &rays[k]));
+                out.set(k, entry, frame);
             }
             return;
         }
         for (k, ray) in rays.iter().enumerate() {
-            out.set(k, Entry::of(self.instance_ray_as_given(instance, ray)));
+            out.set(
+                k,
+                Entry::of(self.instance_ray_as_given(instance, ray)),
+                frame,
+            );
         }
     }
 }
@@ -115,6 +136,7 @@ mod avx2 {
     use std::arch::x86_64::*;
 
     use super::Entries;
+    use crate::geometry::frame::RayFrame;
     use crate::geometry::instance::Instance;
     use crate::math::slab::HUGE_COMPONENT;
     use crate::math::{ROBUST_BOX_SCALE, Ray};
@@ -220,7 +242,7 @@ mod avx2 {
     /// Entries of `rays` into `inst` for the lanes the common case covers, written to `out`;
     /// returns those lanes as a bit mask (the caller enters the others one at a time).
     #[target_feature(enable = "avx2")]
-    pub(super) fn enter(inst: &Instance, rays: &[Ray], out: &mut Entries) -> u32 {
+    pub(super) fn enter(inst: &Instance, rays: &[Ray], frame: &RayFrame, out: &mut Entries) -> u32 {
         let c = columns(rays);
         let splat = |v: f32| _mm256_set1_ps(v);
         let abs = |v: __m256| _mm256_andnot_ps(splat(-0.0), v);
@@ -325,7 +347,19 @@ mod avx2 {
             );
             moving = _mm256_or_ps(moving, _mm256_cmp_ps::<_CMP_NEQ_UQ>(d, splat(0.0)));
         }
-        let usable = _mm256_movemask_ps(_mm256_and_ps(finite, moving)) as u32;
+        let usable = _mm256_and_ps(finite, moving);
+        // Held by `frame`, as `RayFrame::holds`.
+        let walked_region = frame.near_region();
+        let mut held = usable;
+        for (a, &o) in origin.iter().enumerate() {
+            let (lo, hi) = (walked_region.min[a], walked_region.max[a]);
+            held = _mm256_and_ps(held, _mm256_cmp_ps::<_CMP_GE_OQ>(o, splat(lo)));
+            held = _mm256_and_ps(held, _mm256_cmp_ps::<_CMP_LE_OQ>(o, splat(hi)));
+        }
+        let (usable, held) = (
+            _mm256_movemask_ps(usable) as u32,
+            _mm256_movemask_ps(held) as u32,
+        );
         // The object-space rays as rows, written whole; only the usable covered lanes count.
         let rows = transpose([
             origin[0], origin[1], origin[2], dir[0], dir[1], dir[2], t_min, t_max,
@@ -337,6 +371,7 @@ mod avx2 {
         }
         out.object = (out.object & !covered) | (covered & usable);
         out.framed &= !covered;
+        out.held = (out.held & !covered) | (covered & held);
         covered
     }
 }

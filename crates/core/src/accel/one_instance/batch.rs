@@ -7,7 +7,7 @@ use super::OnlyInstance;
 use crate::accel::wide::{Entered, Inside, NearestQueries, NearestStack};
 use crate::accel::{Accel, Hit, PackedLeaves, PackedWatertight, PrimHit, Traced, TraversalStats};
 use crate::geometry::{ENTRY_BLOCK, Entries, Entry, Geometry, Precision};
-use crate::math::{Ray, Vec3};
+use crate::math::Ray;
 
 impl Accel {
     /// [`Accel::trace_geometry_each`] of a scene of one instance: rays whose object-space
@@ -34,6 +34,8 @@ impl Accel {
             }
             return;
         };
+        // The block's ids start as copies of the first (no id type has a default).
+        let Some(first) = rays() else { return };
         let mut queries = InstanceQueries {
             top: self,
             geometry,
@@ -43,7 +45,7 @@ impl Accel {
             packed,
             rays,
             answer,
-            block: EntryBlock::new(),
+            block: EntryBlock::new(first),
         };
         wide.intersect_in_flight::<K, _>(&mut queries, stats);
     }
@@ -71,42 +73,75 @@ where
     R: FnMut() -> Option<(Id, Ray)>,
     A: FnMut(Id, Option<Traced>),
 {
-    /// Fills the block with the next rays the scene's frame holds and enters them (the others
-    /// are answered on the way); `false` once the source has run out. Once per block: out of
-    /// line, so the walk's loop keeps only the hand-out.
+    /// Fills the block with the next rays the scene's frame holds and enters them; the rays
+    /// the prototype's batch walk takes are left in `block.walked`, the others answered on the
+    /// way. `false` once the source has run out. Once per block: out of line, so the walk's
+    /// loop keeps only the hand-out.
     #[inline(never)]
     fn refill(&mut self, stats: &mut TraversalStats) -> bool {
-        let block = &mut self.block;
-        block.next = 0;
-        block.len = 0;
-        // The source is not asked again once it has run out.
-        while block.len < ENTRY_BLOCK && !block.exhausted {
-            let Some((id, ray)) = (self.rays)() else {
-                block.exhausted = true;
-                break;
-            };
-            if !self.top.frame.holds(ray.origin) {
-                // Moved near the scene first: the top level's query frames it.
-                let traced =
-                    self.top
-                        .trace_geometry(self.geometry, Precision::Watertight, &ray, stats);
-                (self.answer)(id, traced);
-                continue;
+        loop {
+            let block = &mut self.block;
+            let mut n = 0;
+            // The source is not asked again once it has run out.
+            while n < ENTRY_BLOCK && !block.exhausted {
+                let Some((id, ray)) = block.first.take().or_else(&mut self.rays) else {
+                    block.exhausted = true;
+                    break;
+                };
+                if !self.top.frame.holds(ray.origin) {
+                    // Moved near the scene first: the top level's query frames it.
+                    let traced =
+                        self.top
+                            .trace_geometry(self.geometry, Precision::Watertight, &ray, stats);
+                    (self.answer)(id, traced);
+                    continue;
+                }
+                block.ids[n] = id;
+                block.rays[n] = ray;
+                n += 1;
             }
-            block.ids[block.len] = Some(id);
-            block.rays[block.len] = ray;
-            block.len += 1;
+            if n == 0 {
+                return false;
+            }
+            let frame = &self.prototype.frame;
+            let entries = &mut block.entries;
+            self.geometry
+                .enter_instance(self.only.instance, &block.rays[..n], frame, entries);
+            // As the prototype's own batch query takes its rays.
+            let walked = entries.held;
+            block.walked = walked;
+            let aside = !walked & ((1 << n) - 1);
+            if aside != 0 {
+                self.answer_aside(aside, stats);
+            }
+            if walked != 0 {
+                return true;
+            }
         }
-        let n = block.len;
-        self.geometry
-            .enter_instance(self.only.instance, &block.rays[..n], &mut block.entries);
-        n > 0
     }
 
-    /// The answer to world ray `world` of the prototype's answer `found` on its image.
+    /// Answers the block's rays in `lanes`, which the prototype's batch walk does not take:
+    /// they miss the instance's box, or the instance or the prototype frames them first.
     #[cold]
-    fn answer_aside(&mut self, id: Id, world: &Ray, found: Option<Traced>) {
-        (self.answer)(id, found.map(|f| self.only.traced_on(world, f)));
+    #[inline(never)]
+    fn answer_aside(&mut self, mut lanes: u32, stats: &mut TraversalStats) {
+        let precision = Precision::Watertight;
+        while lanes != 0 {
+            let k = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            let (id, world) = (self.block.ids[k], self.block.rays[k]);
+            let traced = match self.block.entries.entry(k) {
+                Entry::Object(object) => self
+                    .prototype
+                    .trace_far(self.shapes, precision, &object, stats)
+                    .map(|f| self.only.traced_on(&world, f)),
+                Entry::Misses => None,
+                Entry::Framed => self
+                    .top
+                    .trace_geometry(self.geometry, precision, &world, stats),
+            };
+            (self.answer)(id, traced);
+        }
     }
 }
 
@@ -122,42 +157,18 @@ where
 
     #[inline(always)]
     fn next(&mut self, stats: &mut TraversalStats) -> Option<((Id, Ray), Ray, Self::Leaves)> {
-        loop {
-            if self.block.next == self.block.len && !self.refill(stats) {
-                return None;
-            }
-            let k = self.block.next;
-            self.block.next += 1;
-            let (Some(id), world) = (self.block.ids[k], self.block.rays[k]) else {
-                unreachable!("rays below `len` have ids")
-            };
-            match self.block.entries.entry(k) {
-                // As the prototype's own batch query takes its rays.
-                Entry::Object(object) if self.prototype.frame.holds(object.origin) => {
-                    let leaves = PackedWatertight::new(self.packed, self.shapes);
-                    return Some(((id, world), object, leaves));
-                }
-                Entry::Object(object) => {
-                    let far = self.prototype.trace_far(
-                        self.shapes,
-                        Precision::Watertight,
-                        &object,
-                        stats,
-                    );
-                    self.answer_aside(id, &world, far);
-                }
-                Entry::Misses => (self.answer)(id, None),
-                Entry::Framed => {
-                    let traced = self.top.trace_geometry(
-                        self.geometry,
-                        Precision::Watertight,
-                        &world,
-                        stats,
-                    );
-                    (self.answer)(id, traced);
-                }
-            }
+        if self.block.walked == 0 && !self.refill(stats) {
+            return None;
         }
+        let block = &mut self.block;
+        let k = block.walked.trailing_zeros() as usize;
+        block.walked &= block.walked - 1;
+        let leaves = PackedWatertight::new(self.packed, self.shapes);
+        Some((
+            (block.ids[k], block.rays[k]),
+            block.entries.objects[k],
+            leaves,
+        ))
     }
 
     #[inline(always)]
@@ -198,24 +209,25 @@ where
 
 /// Rays of a batch waiting to be walked, entered into the instance together.
 struct EntryBlock<Id> {
-    ids: [Option<Id>; ENTRY_BLOCK],
+    ids: [Id; ENTRY_BLOCK],
     rays: [Ray; ENTRY_BLOCK],
     entries: Entries,
-    /// Rays held, and the next one to hand out.
-    len: usize,
-    next: usize,
+    /// The lanes still to be handed to the walk.
+    walked: u32,
+    /// The source's first ray, not yet entered.
+    first: Option<(Id, Ray)>,
     /// The source has given its last ray.
     exhausted: bool,
 }
 
 impl<Id: Copy> EntryBlock<Id> {
-    fn new() -> Self {
+    fn new(first: (Id, Ray)) -> Self {
         Self {
-            ids: [None; ENTRY_BLOCK],
-            rays: [Ray::new(Vec3::ZERO, Vec3::X); ENTRY_BLOCK],
+            ids: [first.0; ENTRY_BLOCK],
+            rays: [first.1; ENTRY_BLOCK],
             entries: Entries::new(),
-            len: 0,
-            next: 0,
+            walked: 0,
+            first: Some(first),
             exhausted: false,
         }
     }

@@ -89,8 +89,7 @@ impl WideBvh<8> {
         });
         let mut live = 0;
         for lane in &mut lanes {
-            lane.ray = self.start_next(queries, &mut lane.stack, stats);
-            live += lane.ray.is_some() as usize;
+            live += self.start_next(queries, lane, stats) as usize;
         }
         if Q::ENTERS_INSTANCES {
             return self.two_level_in_flight(&mut lanes, live, queries, stats);
@@ -111,8 +110,7 @@ impl WideBvh<8> {
                     continue;
                 }
                 queries.answer(r.id, &r.ray, r.walk.best(), &r.leaves);
-                lane.ray = self.start_next(queries, &mut lane.stack, stats);
-                live -= lane.ray.is_none() as usize;
+                live -= !self.start_next(queries, lane, stats) as usize;
             }
         }
     }
@@ -139,9 +137,8 @@ impl WideBvh<8> {
                     continue;
                 }
                 queries.answer(r.id, &r.ray, r.walk.best(), &r.leaves);
-                lane.ray = self.start_next(queries, &mut lane.stack, stats);
                 inside.top_done = false;
-                live -= lane.ray.is_none() as usize;
+                live -= !self.start_next(queries, lane, stats) as usize;
             }
         }
     }
@@ -154,26 +151,31 @@ impl WideBvh<8> {
     fn start_next<'a, Q: NearestQueries<'a>>(
         &self,
         queries: &mut Q,
-        stack: &mut NearestStack,
+        lane: &mut Lane<'a, Q>,
         stats: &mut TraversalStats,
-    ) -> Option<InFlight<'a, Q>> {
+    ) -> bool {
         use super::child_test::{Avx2, Octant};
         use crate::math::safe_inverse;
         use crate::math::slab::SlabKind;
         loop {
-            let (id, ray, leaves) = queries.next(stats)?;
+            let Some((id, ray, leaves)) = queries.next(stats) else {
+                lane.ray = None;
+                return false;
+            };
             // As `intersect_avx2` chooses, so the walk is the one-ray walk's.
             let inv = safe_inverse(ray.dir);
             if let SlabKind::Finite = SlabKind::with_inverse(&ray, inv) {
                 let test = Avx2(Octant::new(&ray, inv.to_array()));
-                match NearestWalk::start(self, test, &ray, stack) {
+                match NearestWalk::start(self, test, &ray, &mut lane.stack) {
                     Some(walk) => {
-                        return Some(InFlight {
+                        // Written in place: a ray in flight is 400 bytes.
+                        lane.ray = Some(InFlight {
                             id,
                             ray,
                             leaves,
                             walk,
                         });
+                        return true;
                     }
                     None => queries.answer(id, &ray, None, &leaves),
                 }

@@ -106,7 +106,12 @@ fn every_lane_enters_as_the_one_ray_entry_does() {
         ),
     ];
     let mut f = Floats(7);
-    let (mut covered, mut objects) = (0, 0);
+    let (mut covered, mut objects, mut held_lanes) = (0, 0, 0);
+    // The prototype's frame: the walk takes the object-space rays it holds.
+    let frame = crate::geometry::frame::RayFrame::new(Aabb {
+        min: Vec3::splat(-1.0),
+        max: Vec3::ONE,
+    });
     for to_world in placements {
         let g = scene(to_world);
         let b = g.instances()[0].bounds;
@@ -135,23 +140,31 @@ fn every_lane_enters_as_the_one_ray_entry_does() {
                 })
                 .collect();
             let mut out = Entries::new();
-            g.enter_instance(0, &rays, &mut out);
+            g.enter_instance(0, &rays, &frame, &mut out);
             for (k, ray) in rays.iter().enumerate() {
                 let one = Entry::of(g.instance_ray_as_given(0, ray));
                 // `==` on the floats: +0 and -0 are equal (see the module docs).
                 assert_eq!(out.entry(k), one, "lane {k} of {n}: {ray:?}");
+                let held = matches!(one, Entry::Object(o) if frame.holds(o.origin));
+                assert_eq!(out.held & (1 << k) != 0, held, "lane {k} of {n}: {ray:?}");
+                held_lanes += held as u32;
                 objects += matches!(one, Entry::Object(_)) as u32;
             }
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: AVX2 is present.
-                let lanes = unsafe { avx2::enter(&g.instances()[0], &rays, &mut out) };
+                let lanes = unsafe { avx2::enter(&g.instances()[0], &rays, &frame, &mut out) };
                 covered += lanes.count_ones();
             }
         }
     }
     // The eight-wide path and the box both had work to do.
     assert!(objects > 5000, "{objects} object rays");
+    // Some object-space rays start far from the prototype, most near it.
+    assert!(
+        held_lanes > objects / 2 && held_lanes < objects,
+        "{held_lanes} of {objects} held"
+    );
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         assert!(covered > 20000, "{covered} lanes covered");
