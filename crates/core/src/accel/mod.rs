@@ -289,6 +289,16 @@ impl Accel {
             .packed_corners(slot)
     }
 
+    /// The packed leaves of each prototype of `geometry` (see [`Accel::prototype_corners`]),
+    /// shared, in prototype order.
+    pub fn prototype_leaves(geometry: &Geometry) -> Vec<Option<Arc<PackedLeaves>>> {
+        geometry
+            .prototypes()
+            .iter()
+            .map(|p| p.hierarchy().downcast_ref::<Accel>()?.packed.clone())
+            .collect()
+    }
+
     /// Where this accelerator traces queries from: the scene's bounds and near region.
     pub fn frame(&self) -> &RayFrame {
         &self.frame

@@ -5,8 +5,10 @@
 //! place, makes pairing a scene with another scene's accelerator impossible to write.
 
 use super::{Interaction, Scene, Settings};
+use std::sync::Arc;
+
 use crate::accel::{
-    Accel, AccelKind, BuildOptions, Hit, PACKET, Traced, Traversal, TraversalStats,
+    Accel, AccelKind, BuildOptions, Hit, PACKET, PackedLeaves, Traced, Traversal, TraversalStats,
 };
 use crate::camera::Camera;
 use crate::geometry::triangle::unit_face_normal;
@@ -19,6 +21,9 @@ use crate::math::{Ray, Vec3};
 pub struct World {
     scene: Scene,
     accel: Accel,
+    /// Each prototype's packed leaves, if it has them: a hit record inside an instance reads
+    /// its triangle here, not through the prototype's opaque hierarchy.
+    prototype_leaves: Vec<Option<Arc<PackedLeaves>>>,
 }
 
 impl World {
@@ -29,7 +34,12 @@ impl World {
             build_instances(scene.geometry_mut(), kind, opts, Traversal::Ordered);
         }
         let accel = Accel::build_for(kind, scene.geometry(), opts);
-        Self { scene, accel }
+        let prototype_leaves = Accel::prototype_leaves(scene.geometry());
+        Self {
+            scene,
+            accel,
+            prototype_leaves,
+        }
     }
 
     /// The same world walked with `traversal` (see [`Accel::with_traversal`]), inside its
@@ -43,6 +53,7 @@ impl World {
         }
         Self {
             accel: self.accel.with_traversal(traversal),
+            prototype_leaves: Accel::prototype_leaves(self.scene.geometry()),
             scene: self.scene,
         }
     }
@@ -168,8 +179,16 @@ impl World {
         let g = self.scene.geometry();
         let packed = traced.slot.and_then(|slot| match instance {
             None => self.accel.packed_corners(slot).map(unit_face_normal),
-            Some(instance) => Accel::prototype_corners(g, instance, slot)
-                .map(|c| g.instance_world_normal(instance, unit_face_normal(c))),
+            Some(instance) => {
+                let inst = g.instances().get(instance as usize)?;
+                let leaves = self
+                    .prototype_leaves
+                    .get(inst.prototype as usize)?
+                    .as_ref()?;
+                // As `Geometry::instance_world_normal` maps it.
+                let n = unit_face_normal(leaves.corners(slot)?);
+                Some(inst.placement.world_normal(n))
+            }
         });
         packed.unwrap_or_else(|| g.geometric_normal(traced.hit.prim, &traced.ray, &traced.hit.hit))
     }
