@@ -34,8 +34,15 @@ impl Accel {
             }
             return;
         };
-        // The block's ids start as copies of the first (no id type has a default).
-        let Some(first) = rays() else { return };
+        // The first ray the scene's frame holds starts the first block (and fills its ids:
+        // no id type has a default).
+        let first = loop {
+            let Some((id, ray)) = rays() else { return };
+            if self.frame.holds(ray.origin) {
+                break (id, ray);
+            }
+            answer(id, self.trace_geometry(geometry, precision, &ray, stats));
+        };
         let mut queries = InstanceQueries {
             top: self,
             geometry,
@@ -81,10 +88,10 @@ where
     fn refill(&mut self, stats: &mut TraversalStats) -> bool {
         loop {
             let block = &mut self.block;
-            let mut n = 0;
+            let mut n = std::mem::take(&mut block.pending);
             // The source is not asked again once it has run out.
             while n < ENTRY_BLOCK && !block.exhausted {
-                let Some((id, ray)) = block.first.take().or_else(&mut self.rays) else {
+                let Some((id, ray)) = (self.rays)() else {
                     block.exhausted = true;
                     break;
                 };
@@ -214,8 +221,8 @@ struct EntryBlock<Id> {
     entries: Entries,
     /// The lanes still to be handed to the walk.
     walked: u32,
-    /// The source's first ray, not yet entered.
-    first: Option<(Id, Ray)>,
+    /// Rays held but not yet entered (the first block's first ray).
+    pending: usize,
     /// The source has given its last ray.
     exhausted: bool,
 }
@@ -227,7 +234,7 @@ impl<Id: Copy> EntryBlock<Id> {
             rays: [first.1; ENTRY_BLOCK],
             entries: Entries::new(),
             walked: 0,
-            first: Some(first),
+            pending: 1,
             exhausted: false,
         }
     }
