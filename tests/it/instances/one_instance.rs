@@ -108,6 +108,11 @@ fn one_instance_answers_as_brute_force_over_instances() {
                 assert_eq!(g, w, "placement {k} {name}: ray {i} {:?}", rays[i]);
             }
         }
+        // A batch whose first ray comes from far away (the top level frames it first).
+        let from_far = records::<IN_FLIGHT>(&world, &rows[5..]);
+        for ((g, w), ray) in from_far.iter().zip(&want[5..]).zip(&rays[5..]) {
+            assert_eq!(g, w, "placement {k} from far: {ray:?}");
+        }
         let hits = want.iter().filter(|r| r.instance == Some(0)).count();
         assert!(hits > 200, "placement {k}: only {hits} hits");
         for (i, ray) in rays.iter().enumerate() {
