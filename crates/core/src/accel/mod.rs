@@ -274,23 +274,8 @@ impl Accel {
         self.packed.as_ref()?.corners(slot)
     }
 
-    /// [`Accel::packed_corners`] of the prototype instance `instance` of `geometry` places
-    /// (a [`Traced::slot`] of a hit inside it), in object space.
-    pub fn prototype_corners(
-        geometry: &Geometry,
-        instance: u32,
-        slot: u32,
-    ) -> Option<[crate::math::Vec3; 3]> {
-        let prototype = geometry.instances().get(instance as usize)?.prototype;
-        let proto = &geometry.prototypes()[prototype as usize];
-        proto
-            .hierarchy()
-            .downcast_ref::<Accel>()?
-            .packed_corners(slot)
-    }
-
-    /// The packed leaves of each prototype of `geometry` (see [`Accel::prototype_corners`]),
-    /// shared, in prototype order.
+    /// The packed leaves of each prototype of `geometry`, shared, in prototype order: where a
+    /// hit inside an instance ([`Traced::slot`]) finds its triangle's corners, in object space.
     pub fn prototype_leaves(geometry: &Geometry) -> Vec<Option<Arc<PackedLeaves>>> {
         geometry
             .prototypes()

@@ -320,13 +320,6 @@ impl Geometry {
         }
     }
 
-    /// The world-space unit normal of instance `instance`'s object-space normal `n` (what
-    /// [`Geometry::geometric_normal`] gives from the prototype's corners, when the caller
-    /// already has them).
-    pub fn instance_world_normal(&self, instance: u32, n: Vec3) -> Vec3 {
-        self.instances[instance as usize].placement.world_normal(n)
-    }
-
     /// [`Geometry::geometric_normal`] of a hit on an instance.
     pub(super) fn instance_normal(&self, instance: u32, ray: &Ray, hit: &PrimHit) -> Vec3 {
         let (inst, object, h) = self.object_hit(instance, ray, hit);

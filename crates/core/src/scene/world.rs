@@ -185,7 +185,7 @@ impl World {
                     .prototype_leaves
                     .get(inst.prototype as usize)?
                     .as_ref()?;
-                // As `Geometry::instance_world_normal` maps it.
+                // Mapped as `Geometry::geometric_normal` maps an instance's normals.
                 let n = unit_face_normal(leaves.corners(slot)?);
                 Some(inst.placement.world_normal(n))
             }

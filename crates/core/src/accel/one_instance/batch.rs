@@ -36,12 +36,8 @@ impl Accel {
         };
         // The first ray the scene's frame holds starts the first block (and fills its ids:
         // no id type has a default).
-        let first = loop {
-            let Some((id, ray)) = rays() else { return };
-            if self.frame.holds(ray.origin) {
-                break (id, ray);
-            }
-            answer(id, self.trace_geometry(geometry, precision, &ray, stats));
+        let Some(first) = self.next_held(geometry, &mut rays, &mut answer, stats) else {
+            return;
         };
         let mut queries = InstanceQueries {
             top: self,
@@ -55,6 +51,28 @@ impl Accel {
             block: EntryBlock::new(first),
         };
         wide.intersect_in_flight::<K, _>(&mut queries, stats);
+    }
+
+    /// The next ray of `rays` this accelerator's frame holds; those it does not are answered
+    /// on the way (the scene's query moves them near the scene first).
+    #[inline(always)]
+    fn next_held<Id>(
+        &self,
+        geometry: &Geometry,
+        rays: &mut impl FnMut() -> Option<(Id, Ray)>,
+        answer: &mut impl FnMut(Id, Option<Traced>),
+        stats: &mut TraversalStats,
+    ) -> Option<(Id, Ray)> {
+        loop {
+            let (id, ray) = rays()?;
+            if self.frame.holds(ray.origin) {
+                return Some((id, ray));
+            }
+            answer(
+                id,
+                self.trace_geometry(geometry, Precision::Watertight, &ray, stats),
+            );
+        }
     }
 }
 
@@ -91,18 +109,13 @@ where
             let mut n = std::mem::take(&mut block.pending);
             // The source is not asked again once it has run out.
             while n < ENTRY_BLOCK && !block.exhausted {
-                let Some((id, ray)) = (self.rays)() else {
+                let next =
+                    self.top
+                        .next_held(self.geometry, &mut self.rays, &mut self.answer, stats);
+                let Some((id, ray)) = next else {
                     block.exhausted = true;
                     break;
                 };
-                if !self.top.frame.holds(ray.origin) {
-                    // Moved near the scene first: the top level's query frames it.
-                    let traced =
-                        self.top
-                            .trace_geometry(self.geometry, Precision::Watertight, &ray, stats);
-                    (self.answer)(id, traced);
-                    continue;
-                }
                 block.ids[n] = id;
                 block.rays[n] = ray;
                 n += 1;
