@@ -106,27 +106,20 @@ impl Geometry {
         out.object = 0;
         out.framed = 0;
         out.held = 0;
+        let mut rest: u32 = (1 << rays.len()) - 1;
         #[cfg(target_arch = "x86_64")]
         if !rays.is_empty() && std::arch::is_x86_feature_detected!("avx2") {
             let inst = &self.instances[instance as usize];
             // SAFETY: AVX2 is present.
-            let lanes = unsafe { avx2::enter(inst, rays, frame, out) };
-            // The lanes the common case does not cover (rare): one at a time.
-            let mut rest = !lanes & ((1 << rays.len()) - 1);
-            while rest != 0 {
-                let k = rest.trailing_zeros() as usize;
-                rest &= rest - 1;
-                let entry = Entry::of(self.instance_ray_as_given(instance, &rays[k]));
-                out.set(k, entry, frame);
-            }
-            return;
+            rest &= !unsafe { avx2::enter(inst, rays, frame, out) };
         }
-        for (k, ray) in rays.iter().enumerate() {
-            out.set(
-                k,
-                Entry::of(self.instance_ray_as_given(instance, ray)),
-                frame,
-            );
+        // The lanes the eight-wide entry does not cover (rare), or all without AVX2: one at
+        // a time.
+        while rest != 0 {
+            let k = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            let entry = Entry::of(self.instance_ray_as_given(instance, &rays[k]));
+            out.set(k, entry, frame);
         }
     }
 }

@@ -4,9 +4,9 @@
 //! indices, its packed leaves copies of the triangles). Owning both in one value, built in one
 //! place, makes pairing a scene with another scene's accelerator impossible to write.
 
-use super::{Interaction, Scene, Settings};
 use std::sync::Arc;
 
+use super::{Interaction, Scene, Settings};
 use crate::accel::{
     Accel, AccelKind, BuildOptions, Hit, PACKET, PackedLeaves, Traced, Traversal, TraversalStats,
 };
