@@ -2,6 +2,7 @@
 //! a time (extra accessors in a second, data-URI buffer). `lumis render` exits 1 naming the
 //! file, the node's attribute and what was expected, without a panic or an image.
 
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use serde_json::{Value, json};
@@ -13,14 +14,14 @@ use common::hostile::{assert_clean, data_uri};
 /// The `swarm` node (50 instances) and its attributes' element.
 const SWARM: &str = "nodes[2].extensions.EXT_mesh_gpu_instancing.attributes";
 
-fn original() -> Value {
+pub(crate) fn original() -> Value {
     let text = std::fs::read_to_string(asset("gpu_instancing.gltf")).unwrap();
     serde_json::from_str(&text).unwrap()
 }
 
 /// Adds an accessor of `kind` over `floats` (as f32, or as i16 when `shorts`) in a new
 /// buffer; returns its index.
-fn add_accessor(doc: &mut Value, kind: &str, values: &[f32], shorts: bool) -> usize {
+pub(crate) fn add_accessor(doc: &mut Value, kind: &str, values: &[f32], shorts: bool) -> usize {
     let mut bytes = Vec::new();
     for v in values {
         if shorts {
@@ -50,20 +51,22 @@ fn add_accessor(doc: &mut Value, kind: &str, values: &[f32], shorts: bool) -> us
     accessors.len() - 1
 }
 
-fn swarm_attributes(doc: &mut Value) -> &mut Value {
+pub(crate) fn swarm_attributes(doc: &mut Value) -> &mut Value {
     &mut doc["nodes"][2]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]
+}
+
+/// Writes `doc` as `dir/name` beside a copy of the original's buffer; returns its path.
+pub(crate) fn write_beside_buffer(doc: &Value, dir: &Path, name: &str) -> PathBuf {
+    std::fs::copy(asset("gpu_instancing.bin"), dir.join("gpu_instancing.bin")).unwrap();
+    let file = dir.join(name);
+    std::fs::write(&file, doc.to_string()).unwrap();
+    file
 }
 
 /// Renders `doc` (beside a copy of the original's buffer) and asserts the refusal.
 fn assert_refused(doc: &Value, expected: &[&str]) {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::copy(
-        asset("gpu_instancing.bin"),
-        dir.path().join("gpu_instancing.bin"),
-    )
-    .unwrap();
-    let file = dir.path().join("broken.gltf");
-    std::fs::write(&file, doc.to_string()).unwrap();
+    let file = write_beside_buffer(doc, dir.path(), "broken.gltf");
     let out_dir = dir.path().join("out");
     std::fs::create_dir(&out_dir).unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_lumis"))
@@ -141,7 +144,7 @@ fn component_types_and_dimensions_are_checked() {
 }
 
 #[test]
-fn non_finite_translations_zero_scales_and_non_unit_rotations_name_the_instance() {
+fn non_finite_translations_and_scales_and_non_unit_rotations_name_the_instance() {
     let mut doc = original();
     let mut t = vec![0.0f32; 150];
     t[7 * 3 + 1] = f32::INFINITY;
@@ -152,12 +155,16 @@ fn non_finite_translations_zero_scales_and_non_unit_rotations_name_the_instance(
         &[&format!("{SWARM}.TRANSLATION"), "instance 7", "not finite"],
     );
 
+    // A zero scale is allowed (it hides the entry: `gltf_instancing_hidden`); NaN is not.
     let mut doc = original();
     let mut s = vec![1.0f32; 150];
-    s[3 * 3 + 1] = 0.0;
+    s[3 * 3 + 1] = f32::NAN;
     let a = add_accessor(&mut doc, "VEC3", &s, false);
     swarm_attributes(&mut doc)["SCALE"] = json!(a);
-    assert_refused(&doc, &[&format!("{SWARM}.SCALE"), "instance 3", "non-zero"]);
+    assert_refused(
+        &doc,
+        &[&format!("{SWARM}.SCALE"), "instance 3", "not finite"],
+    );
 
     let mut doc = original();
     let mut q: Vec<f32> = [0.0, 0.0, 0.0, 1.0].repeat(50);

@@ -33,6 +33,7 @@ mod fuzz_regressions;
 mod gltf_bad_input;
 mod gltf_instancing;
 mod gltf_instancing_bad;
+mod gltf_instancing_hidden;
 mod gltf_loading;
 mod gltf_materials;
 mod gltf_views;

@@ -27,7 +27,7 @@ pub use instance::{Instance, PrototypeQueries};
 pub(crate) use instance_entries::{ENTRY_BLOCK, Entries, Entry};
 pub use mesh::{Mesh, MeshError};
 pub use mesh_attributes::{AlphaTest, HitAttributes, MeshAttributes, SharedAlphaTest};
-pub use placement::{Placement, PlacementError};
+pub use placement::{Placement, PlacementError, leaves_no_area};
 pub use polygon::{Triangulation, newell_normal, triangulate_polygon};
 pub use sphere::Sphere;
 pub use surface::SurfacePoint;

@@ -28,6 +28,18 @@ pub enum PlacementError {
     },
 }
 
+/// True when `to_world` maps every surface onto a line or a point (its linear part has rank 1
+/// or 0: every 2x2 minor, so every cross product of two columns, is zero), which no ray can
+/// hit: glTF's way of hiding a mesh with a zero scale. Loaders draw nothing for it, instanced
+/// or flattened alike.
+pub fn leaves_no_area(to_world: &DAffine3) -> bool {
+    let m = to_world.matrix3;
+    let [x, y, z] = [m.x_axis, m.y_axis, m.z_axis];
+    [x.cross(y), y.cross(z), z.cross(x)]
+        .iter()
+        .all(|c| *c == DVec3::ZERO)
+}
+
 /// An affine placement of object space into world space, with what its queries need: the
 /// inverse for rays, the inverse transpose for normals.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -162,5 +174,37 @@ impl Placement {
             Vec3::ZERO
         };
         d.extend(if self.mirrors { -t.w } else { t.w })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DQuat;
+
+    #[test]
+    fn only_maps_onto_a_line_or_a_point_leave_no_area() {
+        let turn = DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.0);
+        let placed = |scale: [f64; 3]| {
+            DAffine3::from_scale_rotation_translation(
+                DVec3::from(scale),
+                turn,
+                DVec3::new(5.0, -2.0, 1e3),
+            )
+        };
+        for (scale, none) in [
+            ([0.0, 0.0, 0.0], true),
+            ([0.0, 2.0, 0.0], true),
+            ([3.0, 0.0, 0.0], true),
+            ([0.0, 2.0, 1e-30], false),
+            ([1.0, 0.0, 1.0], false),
+            ([1e-6, 1e-6, 1e-6], false),
+            ([1.0, -1.0, 1.0], false),
+        ] {
+            assert_eq!(leaves_no_area(&placed(scale)), none, "{scale:?}");
+        }
+        // A singular map of rank 2 (a shear collapsing z onto x and y) keeps area.
+        let shear = DAffine3::from_cols(DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0), DVec3::ZERO);
+        assert!(Placement::new(shear).is_err() && !leaves_no_area(&shear));
     }
 }

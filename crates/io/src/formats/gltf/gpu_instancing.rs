@@ -10,8 +10,9 @@
 //! up to about 4e-3 for bytes (half a step, 1/254, on each of four components), 2e-5 for
 //! shorts. A quaternion further from unit length than its encoding explains (1e-3 for floats
 //! and shorts, 2e-2 for bytes) is refused: it is a wrong accessor, not rounding, and
-//! normalising it would hide that. A zero scale component is refused too: the instance would
-//! be flat (a singular transform that no ray can be moved into).
+//! normalising it would hide that. A zero scale is allowed (the specification lets files hide
+//! a mesh so): the scene builder draws such an entry flattened, or not at all when nothing of
+//! it is left to hit (`lumis_core::scene::SceneBuilder::add_instance`).
 
 use std::path::Path;
 
@@ -123,10 +124,10 @@ pub(super) fn local_transforms(
             ));
         }
         let scale = scales.as_ref().map_or(DVec3::ONE, |v| vec3(&v[i]));
-        if !scale.is_finite() || scale.abs().min_element() == 0.0 {
+        if !scale.is_finite() {
             return Err(err(
                 ".attributes.SCALE",
-                format!("instance {i}: scale {scale} must be finite and non-zero on every axis"),
+                format!("instance {i}: scale {scale} is not finite"),
             ));
         }
         let rotation = match &rotations {

@@ -13,6 +13,7 @@ use glam::DAffine3;
 use super::super::SceneError;
 use super::gpu_instancing;
 use super::nodes::Placed;
+use lumis_core::geometry::{Mesh, leaves_no_area};
 use lumis_core::math::Mat4;
 use lumis_core::scene::{Part, SceneBuilder, Shape};
 
@@ -159,13 +160,16 @@ impl Plan {
     }
 }
 
-/// World-space copies of `parts` placed by `world`, one object each.
+/// World-space copies of `parts` placed by `world`, one object each. A placement that leaves
+/// no area (zero scale on two or three axes: how glTF hides a mesh) keeps its objects, empty,
+/// as an instance placed so does (`SceneBuilder::add_instance`).
 fn flatten(parts: &MeshParts, placement: &str, world: &Mat4, b: &mut SceneBuilder) {
+    let hidden = leaves_no_area(&DAffine3::from_mat4(world.as_dmat4()));
     for p in &parts.parts {
-        b.add_mesh(
-            parts.object_name(placement, p),
-            p.mesh.clone().transformed(world),
-            p.material,
-        );
+        let mesh = match hidden {
+            false => p.mesh.clone().transformed(world),
+            true => Mesh::new(vec![], None, None, vec![]).expect("an empty mesh is valid"),
+        };
+        b.add_mesh(parts.object_name(placement, p), mesh, p.material);
     }
 }

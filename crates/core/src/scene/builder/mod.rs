@@ -1,11 +1,15 @@
 //! [`SceneBuilder`]: the one way loaders and tests assemble a [`Scene`], so every primitive has
 //! an object and every object a material.
 
+mod singular;
+
+use singular::PartShape;
+
 use super::domain;
 use super::limits::{self, LimitError};
 use super::{Frame, Object, Scene, Settings};
 use crate::camera::Camera;
-use crate::geometry::{Geometry, Mesh, Placement, Sphere};
+use crate::geometry::{Geometry, Mesh, Placement, PlacementError, Sphere};
 use crate::instancing::Prototype;
 use crate::light::Light;
 use crate::material::Material;
@@ -44,8 +48,8 @@ pub struct SceneBuilder {
     rig_lights: usize,
     settings: Settings,
     warnings: Vec<String>,
-    /// The parts of each prototype: object name suffix and material.
-    prototype_parts: Vec<Vec<(String, u32)>>,
+    /// The parts of each prototype: object name suffix, material and shape.
+    prototype_parts: Vec<Vec<(String, u32, PartShape)>>,
     /// The first primitive of each part, by prototype.
     prototype_starts: Vec<Vec<u32>>,
     instance_objects: Vec<u32>,
@@ -53,6 +57,8 @@ pub struct SceneBuilder {
     /// keep their simple add calls, and no format can add an element unchecked.
     rejected: Option<LimitError>,
     frame: Option<Frame>,
+    /// Triangles singular placements may still copy ([`singular`]).
+    singular_budget: usize,
 }
 
 impl Default for SceneBuilder {
@@ -80,6 +86,7 @@ impl SceneBuilder {
             warnings: Vec::new(),
             rejected: None,
             frame: None,
+            singular_budget: singular::MAX_SINGULAR_TRIANGLES,
         }
     }
 
@@ -149,15 +156,7 @@ impl SceneBuilder {
         s: crate::geometry::Sphere,
         material: u32,
     ) -> u32 {
-        assert!(
-            (material as usize) < self.materials.len(),
-            "material {material} not added yet"
-        );
-        let name = name.into();
-        self.check(
-            || format!("sphere \"{name}\""),
-            limits::check_bounds(&s.bounds()),
-        );
+        let name = self.checked_shape("sphere", name.into(), material, &s.bounds());
         self.geometry.add_sphere(s);
         self.push_object(name, material, 1)
     }
@@ -169,17 +168,29 @@ impl SceneBuilder {
         m: crate::geometry::Mesh,
         material: u32,
     ) -> u32 {
+        let name = self.checked_shape("mesh", name.into(), material, &m.bounds());
+        let n = self.geometry.add_mesh(m).len();
+        self.push_object(name, material, n)
+    }
+
+    /// Checks a `kind` object's material (must exist) and bounds (within the limits) before
+    /// it is added; returns its name.
+    fn checked_shape(
+        &mut self,
+        kind: &str,
+        name: String,
+        material: u32,
+        bounds: &crate::math::Aabb,
+    ) -> String {
         assert!(
             (material as usize) < self.materials.len(),
             "material {material} not added yet"
         );
-        let name = name.into();
         self.check(
-            || format!("mesh \"{name}\""),
-            limits::check_bounds(&m.bounds()),
+            || format!("{kind} \"{name}\""),
+            limits::check_bounds(bounds),
         );
-        let n = self.geometry.add_mesh(m).len();
-        self.push_object(name, material, n)
+        name
     }
 
     /// Adds a prototype made of `parts` (a name, a shape and a material each, the materials
@@ -196,16 +207,17 @@ impl SceneBuilder {
                 part.material
             );
             starts.push(g.prims().len() as u32);
-            let bounds = match part.shape {
+            let (bounds, shape) = match part.shape {
                 Shape::Mesh(m) => {
                     let b = m.bounds();
+                    let mesh = g.meshes().len() as u32;
                     g.add_mesh(m);
-                    b
+                    (b, PartShape::Mesh(mesh))
                 }
                 Shape::Sphere(s) => {
                     let b = s.bounds();
                     g.add_sphere(s);
-                    b
+                    (b, PartShape::Sphere)
                 }
             };
             let name = part.name;
@@ -213,7 +225,7 @@ impl SceneBuilder {
                 || format!("prototype part \"{name}\""),
                 limits::check_bounds(&bounds),
             );
-            names.push((name, part.material));
+            names.push((name, part.material, shape));
         }
         self.prototype_parts.push(names);
         self.prototype_starts.push(starts);
@@ -222,8 +234,10 @@ impl SceneBuilder {
 
     /// Places prototype `prototype` (must exist) by `to_world` as instance `name`: one object
     /// per part of the prototype, named `name` (one part) or `name/<part>`. Returns the first
-    /// object's id. A singular or non-finite transform, or a placement outside the value
-    /// limits, is reported by [`SceneBuilder::build`].
+    /// object's id. A singular transform (a zero scale: glTF allows it, to hide a node) has no
+    /// inverse to move rays by: its parts are drawn as flattened copies instead, with the same
+    /// objects and no instance ([`singular`]). A non-finite transform, or a placement outside
+    /// the value limits, is reported by [`SceneBuilder::build`].
     pub fn add_instance(
         &mut self,
         prototype: u32,
@@ -233,6 +247,9 @@ impl SceneBuilder {
         let name = name.into();
         let placement = match Placement::new(to_world) {
             Ok(p) => p,
+            Err(PlacementError::Singular { .. }) => {
+                return self.add_singular_placement(prototype, &name, to_world);
+            }
             Err(e) => {
                 self.check(|| format!("instance \"{name}\""), Err(e.to_string()));
                 // Recorded: the scene is refused at `build`; the identity keeps ids going.
@@ -249,7 +266,7 @@ impl SceneBuilder {
         self.instance_objects.push(first);
         let parts = &self.prototype_parts[prototype as usize];
         let single = parts.len() == 1;
-        for (part, material) in parts.clone() {
+        for (part, material, _) in parts.clone() {
             let object = if single {
                 name.clone()
             } else {
@@ -360,63 +377,4 @@ pub fn unique_light_name(taken: &[String], name: &str) -> String {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::geometry::{Mesh, Sphere};
-    use crate::math::Vec3;
-
-    fn two_triangles() -> Mesh {
-        let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
-        Mesh::new(p, None, None, vec![[0, 1, 2], [0, 2, 3]]).expect("valid mesh")
-    }
-
-    #[test]
-    fn each_primitive_belongs_to_the_object_that_added_it() {
-        let mut b = SceneBuilder::new();
-        let m = b.add_material(Material::default());
-        let tri = |x: f32| {
-            let p = vec![
-                Vec3::new(x, 0., 0.),
-                Vec3::new(x + 1., 0., 0.),
-                Vec3::new(x, 1., 0.),
-            ];
-            Mesh::new(p, None, None, vec![[0, 1, 2]]).expect("valid mesh")
-        };
-        let empty = Mesh::new(vec![], None, None, vec![]).expect("an empty mesh is valid");
-        // Objects 0..5 own primitives [0], [1, 2], [], [3], [] (an empty object in the middle
-        // and one at the end).
-        let sphere = Sphere {
-            center: Vec3::ZERO,
-            radius: 1.0,
-        };
-        b.add_sphere("s", sphere, m);
-        b.add_mesh("two", two_triangles(), m);
-        b.add_mesh("empty", empty.clone(), m);
-        b.add_mesh("one", tri(2.0), m);
-        b.add_mesh("empty at the end", empty, m);
-        let cam = Camera::look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y, 40.0, 0.0, None)
-            .expect("valid camera");
-        let scene = b.build(cam).expect("within the limits");
-        let owners: Vec<u32> = (0..4).map(|p| scene.object_of(p)).collect();
-        assert_eq!(owners, [0, 1, 1, 3]);
-    }
-
-    #[test]
-    fn a_scene_of_one_object_owns_every_primitive() {
-        let mut b = SceneBuilder::new();
-        let m = b.add_material(Material::default());
-        b.add_mesh("two", two_triangles(), m);
-        let cam = Camera::look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y, 40.0, 0.0, None)
-            .expect("valid camera");
-        let scene = b.build(cam).expect("within the limits");
-        assert_eq!([scene.object_of(0), scene.object_of(1)], [0, 0]);
-    }
-
-    #[test]
-    fn light_names_are_exr_safe_and_unique() {
-        let taken = vec!["key".to_string(), "key_2".to_string()];
-        assert_eq!(unique_light_name(&taken, "key"), "key_3");
-        assert_eq!(unique_light_name(&taken, "fill light.1"), "fill_light_1");
-        assert_eq!(unique_light_name(&taken, ""), "light");
-    }
-}
+mod tests;
