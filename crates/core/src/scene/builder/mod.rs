@@ -182,15 +182,21 @@ impl SceneBuilder {
         material: u32,
         bounds: &crate::math::Aabb,
     ) -> String {
-        assert!(
-            (material as usize) < self.materials.len(),
-            "material {material} not added yet"
-        );
+        self.assert_material(material);
         self.check(
             || format!("{kind} \"{name}\""),
             limits::check_bounds(bounds),
         );
         name
+    }
+
+    /// Panics unless material `material` was added: loaders add materials before what uses
+    /// them, so a miss is a bug in the loader, not in its file.
+    fn assert_material(&self, material: u32) {
+        assert!(
+            (material as usize) < self.materials.len(),
+            "material {material} not added yet"
+        );
     }
 
     /// Adds a prototype made of `parts` (a name, a shape and a material each, the materials
@@ -201,11 +207,7 @@ impl SceneBuilder {
         let mut starts = Vec::with_capacity(parts.len());
         let mut names = Vec::with_capacity(parts.len());
         for part in parts {
-            assert!(
-                (part.material as usize) < self.materials.len(),
-                "material {} not added yet",
-                part.material
-            );
+            self.assert_material(part.material);
             starts.push(g.prims().len() as u32);
             let (bounds, shape) = match part.shape {
                 Shape::Mesh(m) => {
@@ -264,14 +266,7 @@ impl SceneBuilder {
         );
         let first = self.objects.len() as u32;
         self.instance_objects.push(first);
-        let parts = &self.prototype_parts[prototype as usize];
-        let single = parts.len() == 1;
-        for (part, material, _) in parts.clone() {
-            let object = if single {
-                name.clone()
-            } else {
-                format!("{name}/{part}")
-            };
+        for (object, material, _) in self.part_objects(prototype, &name) {
             self.objects.push(Object {
                 name: object,
                 material,
@@ -281,6 +276,20 @@ impl SceneBuilder {
             self.object_starts.push(prim);
         }
         first
+    }
+
+    /// The objects a placement `name` of prototype `prototype` makes, one per part: name
+    /// (`name` for one part, `name/<part>` for several), material and shape.
+    fn part_objects(&self, prototype: u32, name: &str) -> Vec<(String, u32, PartShape)> {
+        let parts = &self.prototype_parts[prototype as usize];
+        let object = |part: &str| match parts.len() {
+            1 => name.to_string(),
+            _ => format!("{name}/{part}"),
+        };
+        parts
+            .iter()
+            .map(|(part, material, shape)| (object(part), *material, *shape))
+            .collect()
     }
 
     /// Number of instances so far.

@@ -41,24 +41,18 @@ impl SceneBuilder {
         to_world: DAffine3,
     ) -> u32 {
         let onto_a_plane = !leaves_no_area(&to_world);
+        // The flattened copies' transform, rounded to f32 as glTF's is.
+        let copy_to_world = DMat4::from(to_world).as_mat4();
         let shapes = self.geometry.prototypes()[prototype as usize].clone();
-        let parts = self.prototype_parts[prototype as usize].clone();
-        let single = parts.len() == 1;
         let first = self.objects.len() as u32;
-        for (part, material, shape) in parts {
-            let object = if single {
-                name.to_string()
-            } else {
-                format!("{name}/{part}")
-            };
+        for (object, material, shape) in self.part_objects(prototype, name) {
             match shape {
                 PartShape::Mesh(mesh) if onto_a_plane => {
                     let mesh = &shapes.geometry().meshes()[mesh as usize];
                     if let Some(left) = self.singular_budget.checked_sub(mesh.triangle_count()) {
                         self.singular_budget = left;
-                        // The flattened copy's own transform, rounded to f32 as glTF's is.
-                        let m = DMat4::from(to_world).as_mat4();
-                        self.add_mesh(object, mesh.clone().transformed(&m), material);
+                        let copy = mesh.clone().transformed(&copy_to_world);
+                        self.add_mesh(object, copy, material);
                         continue;
                     }
                     self.check(
