@@ -14,6 +14,7 @@
 use crate::common;
 mod meshes;
 mod oracle;
+mod touches;
 
 use common::{Rng, scenes};
 use lumis_core::accel::TraversalStats;

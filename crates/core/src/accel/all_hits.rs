@@ -24,9 +24,12 @@
 //! first entry has the nearest-hit query's `t` (the same tests decide what is touched).
 //!
 //! Every primitive in every leaf whose box the ray's interval enters is tested (the any-hit
-//! walk that never stops), once each, on the ray the accelerator's frame traces; all
-//! accelerators and traversals therefore give brute force's answer bit for bit.
+//! walk that never stops), once each, on the caller's ray as given, also from far away: the
+//! answer is exact for the caller's own line (the nearest-hit query moves a far origin near
+//! the scene, which displaces the line by up to half an ulp of the scene's coordinates, see
+//! [`super::RayFrame`]). All accelerators and traversals give brute force's answer bit for bit.
 
+use super::Framing;
 use super::{Accel, TraversalStats};
 use crate::geometry::{Contact, Geometry, Precision, PrimHit, Seam, Touch, WatertightRay};
 use crate::math::Ray;
@@ -36,9 +39,9 @@ use crate::math::Ray;
 pub struct AllHit {
     /// The primitive index.
     pub prim: u32,
-    /// Distance on the traced ray ([`AllHits::ray`]) and barycentrics (0 for spheres).
+    /// Distance and barycentrics (0 for spheres).
     pub hit: PrimHit,
-    /// The distance on the caller's ray.
+    /// The distance on the caller's ray (the same as `hit.t`: the caller's ray is traced).
     pub t: f32,
     /// A touch that does not cross the surface (see the module docs).
     pub graze: bool,
@@ -47,8 +50,7 @@ pub struct AllHit {
 /// The answer of an all-hits query.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct AllHits {
-    /// The ray traced: the caller's, or the one moved near the scene when its origin lies far
-    /// away ([`super::RayFrame`]); `None` when the ray misses the scene's bounds. Surfaces of
+    /// The ray traced, the caller's; `None` when it misses the scene's bounds. Surfaces of
     /// [`AllHits::hits`] are computed on it.
     pub ray: Option<Ray>,
     /// Every hit in the caller's `(t_min, t_max]`, sorted by `t`, ties by primitive index.
@@ -67,38 +69,43 @@ impl Accel {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> AllHits {
-        let framing = self.frame.frame(ray);
-        let Some(local) = framing.ray(ray) else {
+        // Exact on the caller's own line: a far origin is not moved near the scene, as the
+        // nearest-hit query moves it, since the rounding of the moved origin displaces the line
+        // by up to half an ulp of the scene's coordinates, and a ray that only touches an edge
+        // or a vertex would then cross two faces instead (or miss). Every decision below is
+        // exact for any finite `f32` ray, and the walk's box tests are conservative at any
+        // distance; the frame only answers whether the line meets the scene at all.
+        if matches!(self.frame.frame(ray), Framing::Miss) {
             return AllHits::default();
-        };
+        }
         // Every primitive of every leaf the interval enters, in whatever order the walk takes.
         let mut prims = Vec::new();
-        self.any(local, stats, |p, _| {
+        self.any(ray, stats, |p, _| {
             prims.push(p);
             false
         });
         prims.sort_unstable();
         prims.dedup();
-        let wr = WatertightRay::new(local.dir);
+        let wr = WatertightRay::new(ray.dir);
         let mut contacts = Vec::new();
         for &p in &prims {
-            geometry.contacts(p, local, &wr, precision, &mut contacts);
+            geometry.contacts(p, ray, &wr, precision, &mut contacts);
         }
+        // A distance beyond `f32::MAX` is no `f32` distance: no hit, as for the other queries.
         let mut hits: Vec<AllHit> = resolve(contacts)
             .into_iter()
-            .filter_map(|(c, graze)| {
-                Some(AllHit {
-                    prim: c.prim,
-                    hit: c.hit,
-                    t: framing.caller_t(c.hit.t)?,
-                    graze,
-                })
+            .filter(|(c, _)| c.hit.t.is_finite())
+            .map(|(c, graze)| AllHit {
+                prim: c.prim,
+                hit: c.hit,
+                t: c.hit.t,
+                graze,
             })
             .collect();
         // Stable: a sphere's two roots rounded to one `t` keep their order.
         hits.sort_by(|a, b| by_t(a.t, b.t).then(a.prim.cmp(&b.prim)));
         AllHits {
-            ray: Some(*local),
+            ray: Some(*ray),
             hits,
         }
     }

@@ -56,7 +56,7 @@ impl World {
                 inner: h.hit.inner,
                 u: h.hit.u,
                 v: h.hit.v,
-                // On the ray the hit was found on (a far ray's was moved near the scene).
+                // On the ray the hit was found on: the caller's, traced as given.
                 normal: g.geometric_normal(h.prim, &traced, &h.hit),
                 primitive: g.leaf_primitive(h.prim, h.hit.inner),
                 graze: h.graze,
