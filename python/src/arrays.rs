@@ -78,6 +78,14 @@ impl Floats<'_> {
             Self::F64(a) => a[[i, k]],
         }
     }
+
+    /// Value `(i, k)` as given: a float32 with float32's shortest digits.
+    fn text(&self, i: usize, k: usize) -> String {
+        match self {
+            Self::F32(a) => format!("{:?}", a[[i, k]]),
+            Self::F64(a) => format!("{:?}", a[[i, k]]),
+        }
+    }
 }
 
 /// `[1.5, NaN, 0.0]`: a row as given (shortest round-trip digits).
@@ -107,17 +115,19 @@ pub fn vertices(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
     for i in 0..n {
         let given = [view.get(i, 0), view.get(i, 1), view.get(i, 2)];
         if given.iter().any(|x| !x.is_finite()) {
+            let row = (0..3).map(|k| view.text(i, k)).collect::<Vec<_>>();
             return Err(bad(format!(
-                "{what} row {i}: {} is not finite",
-                row_text(given)
+                "{what} row {i}: [{}] is not finite",
+                row.join(", ")
             )));
         }
         let p = Vec3::from_array(given.map(|x| x as f32));
         if let Some(k) = (0..3).find(|&k| p[k].abs() > MAX_COORDINATE) {
             return Err(bad(format!(
-                "{what} row {i}: coordinate {:?} (float32 {:e}) exceeds the scene's coordinate \
+                "{what} row {i}: coordinate {} (float32 {:e}) exceeds the scene's coordinate \
                  limit |x| <= {MAX_COORDINATE:e}",
-                given[k], p[k]
+                view.text(i, k),
+                p[k]
             )));
         }
         out.push(p);
