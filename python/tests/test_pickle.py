@@ -236,4 +236,4 @@ def test_a_query_releases_the_gil():
 
 def test_unknown_state_is_refused():
     with pytest.raises(lumis.SceneError, match="not a pickled lumis scene"):
-        lumis._scene_from_state({"kind": "other"})
+        lumis._builder.scene_from_state({"kind": "other"})
