@@ -7,6 +7,7 @@ The `lumis-rt` distribution of the lumis ray tracer (https://github.com/... `pyt
 >>> o = np.zeros((1, 3), np.float32); o[0, 2] = 5
 >>> h = s.intersect(o, np.array([[0, 0, -1]], np.float32))
 >>> h.t, h.prim_id, h.normal
+>>> box = lumis.Scene.from_arrays(vertices, faces)   # numpy (V, 3) and (F, 3)
 
 Ray queries give exactly the answers of `lumis hits` (the same Rust function); renders give
 exactly the pixels of `lumis render`'s EXR. Long calls release the GIL and run on rayon's
@@ -31,8 +32,10 @@ __all__ = [
     "AllHits",
     "Hits",
     "Image",
+    "Prototype",
     "RayError",
     "Scene",
+    "SceneBuilder",
     "SceneError",
     "load",
 ]
@@ -167,7 +170,8 @@ def _bound(x: Any) -> Any:
 
 
 class Scene:
-    """A loaded scene (`lumis.load`). Its accelerators are built on first use, one per
+    """A loaded scene (`lumis.load`) or one made from arrays (`Scene.from_arrays`,
+    `SceneBuilder`). Its accelerators are built on first use, one per
     (`accel`, `precision`) asked for, and kept; a scene can be queried from several Python
     threads at once.
 
@@ -190,16 +194,46 @@ class Scene:
     def __init__(self, inner: Any) -> None:
         self._s = inner
 
+    @classmethod
+    def from_arrays(cls, vertices: Any, faces: Any) -> "Scene":
+        """A scene of one triangle mesh: `vertices` `(V, 3)` float32 or float64 (other real
+        dtypes are converted to float64 first), `faces` `(F, 3)` of any integer dtype, both
+        read in place (any strides). Object id 0; `prim_id` is the face's row (degenerate
+        faces stay, and are never hit). Each coordinate is rounded to float32 once (to
+        nearest, as `astype(numpy.float32)`); the answers are exact for that float32 mesh.
+        Raises `ValueError` naming the row of a non-finite vertex, a coordinate beyond
+        1e18, or a face index out of range. `SceneBuilder` makes scenes of several meshes,
+        spheres and instances."""
+        builder = SceneBuilder()
+        builder.add_mesh(vertices, faces)
+        return builder.build()
+
+    def __reduce__(self) -> Any:
+        from ._builder import scene_from_state
+
+        # A file scene pickles as its path, defines, options and the SHA-256 of every file
+        # it read; a scene from arrays as its float32 arrays (see docs/python.md).
+        return (scene_from_state, (self._s.pickle_state(),))
+
     def __repr__(self) -> str:
+        source = "from arrays" if self.path is None else repr(self.path)
         return (
-            f"<lumis.Scene {str(self.path)!r}: {self.num_primitives} primitives, "
+            f"<lumis.Scene {source}: {self.num_primitives} primitives, "
             f"{self.num_objects} objects>"
         )
 
     @property
-    def path(self) -> str:
-        """The file the scene was loaded from."""
-        return str(self._s.path)
+    def path(self) -> Optional[str]:
+        """The file the scene was loaded from (as given); None for a scene from arrays."""
+        p = self._s.path
+        return None if p is None else str(p)
+
+    @property
+    def first_prim(self) -> np.ndarray:
+        """int64 `(num_objects,)`: the `prim_id` of each object's first primitive (-1 for an
+        object without any). A mesh's face `row` is primitive `first_prim[obj_id] + row`;
+        on an instance `prim_id` counts the prototype's primitives, so its entry is 0."""
+        return self._s.first_prim
 
     @property
     def num_primitives(self) -> int:
@@ -374,9 +408,18 @@ def load(
 
     Raises `SceneError` (a `ValueError`) with the message `lumis` prints after `error: ` when
     the file, a file it references or an override is bad.
+
+    The scene pickles as its absolute path, defines, options and the SHA-256 of every file the
+    load read; unpickling reloads it and raises `SceneError` naming a file that changed since.
     """
     inner = _lumis.load(
         os.fspath(path), define_strings(defines, overrides),
-        gltf_scene, camera, up, auto_camera, frame, flatten_instances,
+        gltf_scene=gltf_scene, camera=camera, up=up, auto_camera=auto_camera, frame=frame,
+        flatten_instances=flatten_instances,
     )
     return Scene(inner)
+
+
+
+# After `Scene`, which the builder makes.
+from ._builder import Prototype, SceneBuilder  # noqa: E402

@@ -1,7 +1,7 @@
 """Type stubs of the compiled module `lumis._lumis` (use the `lumis` package's API)."""
 
 from os import PathLike
-from typing import Any, Dict, List, Optional, Union
+from typing import Any, Dict, List, Optional, Tuple, Union, final
 
 import numpy as np
 
@@ -15,7 +15,10 @@ _Bound = Union[float, np.ndarray]
 
 class Scene:
     @property
-    def path(self) -> str: ...
+    def path(self) -> Optional[str]: ...
+    @property
+    def first_prim(self) -> np.ndarray: ...
+    def pickle_state(self) -> Dict[str, Any]: ...
     @property
     def num_primitives(self) -> int: ...
     @property
@@ -40,13 +43,30 @@ class Scene:
     ) -> Dict[str, np.ndarray]: ...
     def render(self, *args: Any, **kwargs: Any) -> Dict[str, Any]: ...
 
+@final
+class SceneBuilder:
+    def __init__(self) -> None: ...
+    def add_mesh(
+        self, *, vertices: np.ndarray, faces: np.ndarray, name: Optional[str] = None
+    ) -> Tuple[int, int]: ...
+    def add_sphere(
+        self, *, center: np.ndarray, radius: float, name: Optional[str] = None
+    ) -> Tuple[int, int]: ...
+    def add_prototype(self, *, vertices: np.ndarray, faces: np.ndarray) -> int: ...
+    def add_instance(
+        self, *, prototype: int, matrix: np.ndarray, name: Optional[str] = None
+    ) -> Tuple[int, int]: ...
+    def build(self) -> Scene: ...
+
 def load(
     path: Union[str, PathLike[str]],
     defines: List[str] = ...,
+    *,
     gltf_scene: Optional[int] = None,
     camera: Optional[int] = None,
     up: Optional[str] = None,
     auto_camera: bool = False,
     frame: Optional[int] = None,
     flatten_instances: bool = False,
+    expect_files: Optional[List[Tuple[str, str]]] = None,
 ) -> Scene: ...

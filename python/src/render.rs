@@ -76,7 +76,8 @@ pub fn render<'py>(
     // The exposure: given, else the scene's, else (glTF and OBJ files) automatic.
     let fixed_exposure = match request.exposure {
         Some(ev) => Some(ev),
-        None if is_model_file(scene.file()) => None,
+        // A scene from arrays is a bare model, as an OBJ file is.
+        None if scene.file().is_none_or(is_model_file) => None,
         None => Some(st.exposure),
     };
     let how = Develop {

@@ -3,13 +3,13 @@
 //! (queries from several Python threads run concurrently, without the GIL).
 
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock};
 
 use lumis_core::accel::{AccelKind, BuildOptions};
 use lumis_core::batch::{check_rays, sphere_rows, trace_all_hits, trace_rays, triangle_rows};
 use lumis_core::film::{DisplayTransform, Tonemap};
-use lumis_core::geometry::Precision;
+use lumis_core::geometry::{Precision, Primitive};
 use lumis_core::scene::{Scene, World};
 use lumis_io::output::ChannelLayout;
 use numpy::ndarray::Array2;
@@ -21,6 +21,7 @@ use pyo3::types::PyDict;
 use crate::errors::RayError;
 use crate::hits::{AllHitColumns, HitColumns, blocked};
 use crate::rays::RayArgs;
+use crate::source::{self, Source};
 use crate::threads;
 
 /// Whether this build has the all-hits query ([`PyScene::intersect_all`]).
@@ -28,27 +29,30 @@ pub const ALL_HITS_AVAILABLE: bool = true;
 
 type WorldKey = (AccelKind, Precision);
 
-/// A scene loaded by `lumis.load`.
+/// A scene loaded by `lumis.load` or built from arrays (`lumis.SceneBuilder`).
 #[pyclass(name = "Scene", module = "lumis._lumis", frozen)]
 pub struct PyScene {
     scene: Scene,
-    path: PathBuf,
+    source: Source,
     worlds: Mutex<HashMap<WorldKey, Arc<OnceLock<Arc<World>>>>>,
 }
 
 impl PyScene {
-    /// Wraps a loaded scene.
-    pub fn new(scene: Scene, path: PathBuf) -> Self {
+    /// Wraps a scene from `source`.
+    pub fn new(scene: Scene, source: Source) -> Self {
         Self {
             scene,
-            path,
+            source,
             worlds: Mutex::new(HashMap::new()),
         }
     }
 
-    /// The file the scene was loaded from.
-    pub fn file(&self) -> &std::path::Path {
-        &self.path
+    /// The file the scene was loaded from (as given), `None` for a scene from arrays.
+    pub fn file(&self) -> Option<&Path> {
+        match &self.source {
+            Source::File(f) => Some(&f.given),
+            Source::Arrays(_) => None,
+        }
     }
 
     /// The loaded scene (settings as the file and the overrides left them).
@@ -108,10 +112,29 @@ impl PyScene {
 
 #[pymethods]
 impl PyScene {
-    /// The file the scene was loaded from.
+    /// The file the scene was loaded from, as given; `None` for a scene from arrays.
     #[getter]
-    fn path(&self) -> PathBuf {
-        self.path.clone()
+    fn path(&self) -> Option<PathBuf> {
+        self.file().map(Path::to_path_buf)
+    }
+
+    /// What the scene pickles as: a dict with `kind` `"file"` (the keyword arguments of
+    /// `load` that reload it, the SHA-256 of each file read among them) or `"arrays"` (the
+    /// builder's steps with their arrays).
+    fn pickle_state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        match &self.source {
+            Source::File(f) => f.state(py),
+            Source::Arrays(steps) => source::arrays_state(py, &self.scene, steps),
+        }
+    }
+
+    /// The `prim_id` of each object's first primitive, as the queries report it (int64,
+    /// one per object; -1 for an object without primitives): a mesh object's face `row` is
+    /// primitive `first_prim + row`. An instance's objects count from its prototype's
+    /// primitives (as `prim_id` does on an instance).
+    #[getter]
+    fn first_prim<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        numpy::IntoPyArray::into_pyarray(first_prims(&self.scene), py)
     }
 
     /// Primitives (spheres and triangles), in id order.
@@ -298,6 +321,44 @@ impl PyScene {
         };
         crate::render::render(py, self, &request)
     }
+}
+
+/// See [`PyScene::first_prim`]. Each prototype's parts are found once (from its first
+/// instance), however many instances place it.
+fn first_prims(scene: &Scene) -> Vec<i64> {
+    let g = scene.geometry();
+    let mut first = vec![-1i64; scene.objects().len()];
+    let mut claim = |object: u32, prim: u32| {
+        let slot = &mut first[object as usize];
+        if *slot < 0 {
+            *slot = i64::from(prim);
+        }
+    };
+    // By prototype: (part, first primitive of the part) for each part.
+    let mut parts: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
+    for (p, prim) in g.prims().iter().enumerate() {
+        let Primitive::Instance { instance } = *prim else {
+            claim(scene.object_of(p as u32), p as u32);
+            continue;
+        };
+        let proto = g.instances()[instance as usize].prototype;
+        let base = scene.instance_objects()[instance as usize];
+        let starts = parts.entry(proto).or_insert_with(|| {
+            let count = g.prototypes()[proto as usize].geometry().prims().len() as u32;
+            let mut starts: Vec<(u32, u32)> = Vec::new();
+            for inner in 0..count {
+                let part = scene.instance_object(instance, inner) - base;
+                if starts.last().is_none_or(|&(last, _)| last != part) {
+                    starts.push((part, inner));
+                }
+            }
+            starts
+        });
+        for &(part, start) in starts.iter() {
+            claim(base + part, start);
+        }
+    }
+    first
 }
 
 /// `rows` as a float32 `(len, N)` array.
