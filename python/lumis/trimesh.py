@@ -122,7 +122,8 @@ class RayMeshIntersector:
         """Whether each ray hits the surface: bool `(n,)`."""
         rays = _Rays(ray_origins, ray_directions)
         hit = np.zeros(rays.count, dtype=bool)
-        hit[rays.index] = self._scene.any_hits(rays.origins, rays.directions)
+        _, tri = self._scene.first_hits(rays.origins, rays.directions)
+        hit[rays.index] = tri >= 0
         return hit
 
     def contains_points(self, points: Any) -> np.ndarray:
@@ -133,9 +134,11 @@ class RayMeshIntersector:
         if not util.is_shape(points, (-1, 3)):
             raise ValueError("points must be (n,3)")
         contains = np.zeros(len(points), dtype=bool)
-        with np.errstate(over="ignore"):
-            finite = np.isfinite(points.astype(np.float32)).all(axis=1)
-        if finite.any():
+        with np.errstate(invalid="ignore"):
+            finite = _row_max_abs(points) < _F32_ROUNDS_TO_INF
+        if finite.all():
+            contains = self._scene.contains(points)
+        elif finite.any():
             contains[finite] = self._scene.contains(points[finite])
         return contains
 
@@ -157,9 +160,9 @@ class RayMeshIntersector:
 
 class _Rays:
     """A batch of rays as trimesh takes it, reduced to those lumis can trace: `index` (the
-    rows traced), `origins` and `directions` of those rows (each direction scaled by a power
-    of two, which changes neither the line nor its float32 rounding but keeps it within
-    float32's range)."""
+    rows traced), `origins` and `directions` of those rows. Directions beyond 2^+-64 are
+    scaled by a power of two, which changes neither the line nor its float32 rounding but
+    keeps it within float32's range."""
 
     def __init__(self, ray_origins: Any, ray_directions: Any) -> None:
         origins = np.asanyarray(ray_origins, dtype=np.float64)
@@ -169,28 +172,48 @@ class _Rays:
         if not util.is_shape(origins, (-1, 3)):
             raise ValueError("rays must be (n,3)")
         self.count = len(origins)
-        with np.errstate(over="ignore", invalid="ignore"):
-            scale = np.abs(directions).max(axis=1)
-            traced = (
-                np.isfinite(origins.astype(np.float32)).all(axis=1)
-                & np.isfinite(scale)
-                & (scale > 0)
-            )
-        self.index = np.flatnonzero(traced)
-        self.origins = origins[self.index]
-        _, exponent = np.frexp(scale[self.index])
-        self.directions = np.ldexp(directions[self.index], -exponent[:, None])
+        with np.errstate(invalid="ignore"):
+            # NaN compares false: such rays are not traced.
+            reach = _row_max_abs(origins)
+            length = _row_max_abs(directions)
+            traced = (reach < _F32_ROUNDS_TO_INF) & (length > 0) & (length <= np.finfo(np.float64).max)
+            rescale = (length < 2.0**-64) | (length > 2.0**64)
+        self.all_traced = bool(traced.all())
+        if self.all_traced:
+            self.index = np.arange(self.count)
+        else:
+            self.index = np.flatnonzero(traced)
+            origins, directions = origins[self.index], directions[self.index]
+            rescale = rescale[self.index]
+        if rescale.any():
+            directions = np.array(directions)
+            _, exponent = np.frexp(np.abs(directions[rescale]).max(axis=1))
+            directions[rescale] = np.ldexp(directions[rescale], -exponent[:, None])
+        self.origins, self.directions = origins, directions
 
     def locations(self, index_ray: np.ndarray, t: np.ndarray) -> np.ndarray:
         """`origin + t * direction` in float64 for hits of rows `index_ray` at `t`."""
-        row = np.searchsorted(self.index, index_ray)
+        row = index_ray if self.all_traced else np.searchsorted(self.index, index_ray)
         return self.origins[row] + t.astype(np.float64)[:, None] * self.directions[row]
+
+
+def _row_max_abs(a: np.ndarray) -> np.ndarray:
+    """Largest magnitude of each row of an `(n, 3)` array, NaN where a row has one (numpy's
+    row reductions are several times slower on rows of three)."""
+    return np.maximum(np.maximum(np.abs(a[:, 0]), np.abs(a[:, 1])), np.abs(a[:, 2]))
+
+
+# The smallest magnitude that rounds to an infinite float32: float32's largest value plus
+# half its last step.
+_F32_ROUNDS_TO_INF = 2.0**128 - 2.0**103
 
 
 def _first_of_each_ray(ray: np.ndarray, max_hits: int) -> np.ndarray:
     """Mask of the first `max_hits` entries of each ray in `ray` (grouped, in order)."""
     if len(ray) == 0 or max_hits <= 0:
         return np.zeros(len(ray), dtype=bool)
+    if np.bincount(ray).max() <= max_hits:
+        return np.ones(len(ray), dtype=bool)
     starts = np.r_[0, np.flatnonzero(ray[1:] != ray[:-1]) + 1]
     lengths = np.diff(np.r_[starts, len(ray)])
     rank = np.arange(len(ray)) - np.repeat(starts, lengths)
@@ -228,13 +251,9 @@ class _MeshScene:
         if self.scene is None or len(origins) == 0:
             return np.full(len(origins), np.inf, np.float32), np.full(len(origins), -1)
         h = self.scene.intersect(origins, directions, t_min=T_MIN)
-        face = np.where(h.prim_id >= 0, self._faces(np.maximum(h.prim_id, 0)), -1)
-        return h.t, face
-
-    def any_hits(self, origins: np.ndarray, directions: np.ndarray) -> np.ndarray:
-        if self.scene is None or len(origins) == 0:
-            return np.zeros(len(origins), dtype=bool)
-        return self.scene.occluded(origins, directions, t_min=T_MIN)
+        if self.face_of_prim is None:
+            return h.t, h.prim_id
+        return h.t, np.where(h.prim_id >= 0, self.face_of_prim[np.maximum(h.prim_id, 0)], -1)
 
     def all_hits(self, origins: np.ndarray, directions: np.ndarray) -> _AllHits:
         """Every hit (crossings and grazes), ray by ray, each ray's by `t`."""
