@@ -22,7 +22,7 @@ Embree engine; what differs is what comes back at shared edges and vertices
 - Locations are `origin + t * direction` in float64, on the line lumis traced.
 - A ray with a zero or non-finite direction, or an origin that is not finite as float32, is a
   miss, as the Embree engine answers it (lumis itself refuses such rays). Directions are used
-  as given, whatever their length (the Embree engine treats one shorter than 1e-12 as zero).
+  as given, whatever their length (the Embree engine misses with one shorter than about 1e-17).
 - `contains_points` is `Scene.contains`: the exact answer, a point on the surface inside.
 
 The mesh is rounded to float32 once, as Embree's copy is; the answers are exact for that
