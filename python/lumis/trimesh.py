@@ -130,7 +130,7 @@ class RayMeshIntersector:
         """Whether each point is inside the mesh: bool `(n,)`, exact for the float32 point
         (`Scene.contains`: a point on the surface is inside). Points that are not finite as
         float32 are outside."""
-        points = np.asanyarray(points, dtype=np.float64)
+        points = np.asarray(points, dtype=np.float64)
         if not util.is_shape(points, (-1, 3)):
             raise ValueError("points must be (n,3)")
         contains = np.zeros(len(points), dtype=bool)
@@ -165,8 +165,8 @@ class _Rays:
     keeps it within float32's range."""
 
     def __init__(self, ray_origins: Any, ray_directions: Any) -> None:
-        origins = np.asanyarray(ray_origins, dtype=np.float64)
-        directions = np.asanyarray(ray_directions, dtype=np.float64)
+        origins = np.asarray(ray_origins, dtype=np.float64)
+        directions = np.asarray(ray_directions, dtype=np.float64)
         if origins.shape != directions.shape:
             raise ValueError("Ray origin and direction don't match!")
         if not util.is_shape(origins, (-1, 3)):

@@ -173,9 +173,14 @@ def test_misses_where_embree_misses_and_bad_shapes_raise():
         a.ray.intersects_id(o[:2], d[:3])
     with pytest.raises(ValueError, match=r"\(n,3\)"):
         a.ray.contains_points([[0, 0]])
-    # Lists are taken as trimesh takes them.
+    # Lists are taken as trimesh takes them; a tracked array (a mesh's vertices) gives plain
+    # arrays back, as the Embree engine's.
     loc, ray, tri = a.ray.intersects_location([[0, 0, -5]], [[0, 0, 1]])
     assert loc.tolist() == [[0, 0, -0.5], [0, 0, 0.5]] and ray.tolist() == [0, 0]
+    for r in (a.ray, b.ray):
+        loc, ray, tri = r.intersects_location(a.vertices * 2, -a.vertices)
+        assert type(loc) is type(ray) is type(tri) is np.ndarray
+        assert type(r.contains_points(a.vertices)) is np.ndarray
 
 
 def test_a_ray_from_the_surface_hits_it_at_its_origin():
