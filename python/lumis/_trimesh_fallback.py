@@ -20,7 +20,9 @@ import numpy as np
 from . import Scene, load
 
 
-def scene_from_arrays(vertices: np.ndarray, faces: np.ndarray) -> Tuple[Scene, Optional[np.ndarray]]:
+def scene_from_arrays(
+    vertices: np.ndarray, faces: np.ndarray
+) -> Tuple[Scene, Optional[np.ndarray]]:
     """The scene and, when the loader skipped faces, the face row of each primitive."""
     v32 = np.asarray(vertices, dtype=np.float64).astype(np.float32)
     faces = np.asarray(faces, dtype=np.int64)

@@ -176,7 +176,8 @@ class _Rays:
             # NaN compares false: such rays are not traced.
             reach = _row_max_abs(origins)
             length = _row_max_abs(directions)
-            traced = (reach < _F32_ROUNDS_TO_INF) & (length > 0) & (length <= np.finfo(np.float64).max)
+            finite = length <= np.finfo(np.float64).max
+            traced = (reach < _F32_ROUNDS_TO_INF) & (length > 0) & finite
             rescale = (length < 2.0**-64) | (length > 2.0**64)
         self.all_traced = bool(traced.all())
         if self.all_traced:

@@ -216,7 +216,8 @@ def test_the_scene_follows_the_mesh_and_the_engine_copies_and_pickles():
     assert mesh.ray.intersects_location(o, d)[0][0].tolist() == [0.2, 0.1, 0.5]
     mesh.vertices[:, 2] *= 2  # in place, as trimesh tracks it
     assert mesh.ray.intersects_location(o, d)[0][0].tolist() == [0.2, 0.1, 1.0]
-    for other in (copy.copy(mesh.ray), copy.deepcopy(mesh.ray), pickle.loads(pickle.dumps(mesh.ray))):
+    copies = (copy.copy(mesh.ray), copy.deepcopy(mesh.ray), pickle.loads(pickle.dumps(mesh.ray)))
+    for other in copies:
         assert isinstance(other, Lumis)
         assert other.intersects_location(o, d)[0][0].tolist() == [0.2, 0.1, 1.0]
     assert mesh.contains([[0, 0, 1.0], [0, 0, 0.4]]).tolist() == [True, False]
@@ -251,7 +252,8 @@ def test_hard_case_every_crossing_and_touch_once(hard_mesh, hard_rays):
     wrong = wrong_counts(hard_mesh.ray, o, d, counts)
     assert len(wrong) == 0, (
         f"{len(wrong)} of {(counts >= 0).sum()} rays with the wrong number of hits, e.g. "
-        + "; ".join(f"{o[i].tolist()} along {d[i].tolist()}: {counts[i]} expected" for i in wrong[:5])
+        + "; ".join(f"{o[i].tolist()} along {d[i].tolist()}: {counts[i]} expected"
+                    for i in wrong[:5])
     )
 
 
