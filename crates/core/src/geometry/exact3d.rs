@@ -206,9 +206,17 @@ mod tests {
         // Spheres: far centre, tiny radius; the boundary is inside.
         let c0 = v(1e6, -1e6, 3.0);
         assert!(ball_contains(c0, 0.5, c0 + v(0.5, 0.0, 0.0)));
-        assert!(!ball_contains(c0, 0.5, v(1e6 + 0.5, -1e6, 3.0f32.next_up())));
+        assert!(!ball_contains(
+            c0,
+            0.5,
+            v(1e6 + 0.5, -1e6, 3.0f32.next_up())
+        ));
         assert!(ball_contains(c0, 0.5, v(1e6, -1e6, 3.5)));
         assert!(ball_contains(v(0.0, 0.0, 0.0), 1e-30, v(0.0, 1e-30, 0.0)));
-        assert!(!ball_contains(v(0.0, 0.0, 0.0), 1e-30, v(1e-30, 1e-30, 0.0)));
+        assert!(!ball_contains(
+            v(0.0, 0.0, 0.0),
+            1e-30,
+            v(1e-30, 1e-30, 0.0)
+        ));
     }
 }
