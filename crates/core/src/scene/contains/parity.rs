@@ -78,10 +78,11 @@ impl LineHits {
             if graze {
                 continue;
             }
-            if let Primitive::Triangle { mesh: m, tri } = g.prims()[prim as usize] {
-                if m == mesh && ahead(p, g.meshes()[m as usize].corners(tri)) {
-                    odd = !odd;
-                }
+            if let Primitive::Triangle { mesh: m, tri } = g.prims()[prim as usize]
+                && m == mesh
+                && ahead(p, g.meshes()[m as usize].corners(tri))
+            {
+                odd = !odd;
             }
         }
         odd
