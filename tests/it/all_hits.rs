@@ -13,7 +13,7 @@
 
 use crate::common;
 mod meshes;
-mod oracle;
+pub(crate) mod oracle;
 
 use common::{Rng, scenes};
 use lumis_core::accel::TraversalStats;

@@ -10,9 +10,7 @@
 //! - an open box (one face removed): answered by the winding number, which agrees with a
 //!   brute-force `f64` solid-angle sum wherever that sum is 0.1 or more from 1/2, and says so.
 
-#[path = "all_hits/oracle.rs"]
-mod oracle;
-
+use crate::all_hits::oracle::{Side, classify};
 use glam::{DAffine3, DMat3, DVec3};
 use lumis_core::accel::{AccelKind, BuildOptions};
 use lumis_core::camera::Camera;
@@ -22,7 +20,6 @@ use lumis_core::math::Vec3;
 use lumis_core::scene::{ContainmentMethod, Part, SceneBuilder, Shape, World};
 use num_rational::BigRational;
 use num_traits::Zero;
-use oracle::{Side, classify};
 use std::collections::HashMap;
 
 type Tri = [[i32; 3]; 3];
