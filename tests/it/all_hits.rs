@@ -13,7 +13,7 @@
 
 use crate::common;
 mod meshes;
-mod oracle;
+pub(crate) mod oracle;
 mod touches;
 
 use common::{Rng, scenes};

@@ -20,6 +20,7 @@ mod cli;
 mod cli_exr;
 mod cli_flags;
 mod cli_models;
+mod contains;
 mod cryptomatte;
 mod effects;
 mod environment;

@@ -29,7 +29,7 @@ fn two_product(a: f64, b: f64) -> (f64, f64) {
 /// Adds `b` to the expansion `e` (non-overlapping, increasing magnitude) in place, dropping
 /// zero components; the result is again non-overlapping and increasing (Shewchuk's
 /// GROW-EXPANSION, his Theorem 10), and its exact sum is `sum(e) + b`.
-fn grow(e: &mut Vec<f64>, b: f64) {
+pub(super) fn grow(e: &mut Vec<f64>, b: f64) {
     let mut q = b;
     let mut out = 0;
     for i in 0..e.len() {
@@ -47,7 +47,7 @@ fn grow(e: &mut Vec<f64>, b: f64) {
 }
 
 /// The sign of an expansion: that of its largest (last) component, zeros having been dropped.
-fn sign(e: &[f64]) -> Ordering {
+pub(super) fn sign(e: &[f64]) -> Ordering {
     e.last().map_or(Ordering::Equal, |x| x.total_cmp(&0.0))
 }
 

@@ -8,6 +8,7 @@ mod all_hits;
 pub mod animation;
 mod auto;
 mod builder;
+mod contains;
 pub mod domain;
 pub mod limits;
 mod settings;
@@ -17,6 +18,7 @@ pub use all_hits::SurfaceHit;
 pub use animation::{Frame, FrameRate};
 pub use auto::{UpAxis, default_rig, framing_camera};
 pub use builder::{Part, SceneBuilder, Shape};
+pub use contains::{Containment, ContainmentMethod, PointError, check_points};
 pub use limits::LimitError;
 pub use settings::{
     DEFAULT_CUTOFF, MAX_DEPTH, MAX_LENS_SAMPLES, MAX_PIXELS, MAX_SIDE, MAX_SPP, Settings,

@@ -4,8 +4,9 @@
 //! indices, its packed leaves copies of the triangles). Owning both in one value, built in one
 //! place, makes pairing a scene with another scene's accelerator impossible to write.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
+use super::contains::ContainmentIndex;
 use super::{Interaction, Scene, Settings};
 use crate::accel::{
     Accel, AccelKind, BuildOptions, Hit, PACKET, PackedLeaves, Traced, Traversal, TraversalStats,
@@ -24,6 +25,8 @@ pub struct World {
     /// Each prototype's packed leaves, if it has them: a hit record inside an instance reads
     /// its triangle here, not through the prototype's opaque hierarchy.
     prototype_leaves: Vec<Option<Arc<PackedLeaves>>>,
+    /// What point containment queries need, built on the first one (`World::contains`).
+    containment: OnceLock<Arc<ContainmentIndex>>,
 }
 
 impl World {
@@ -39,6 +42,7 @@ impl World {
             scene,
             accel,
             prototype_leaves,
+            containment: OnceLock::new(),
         }
     }
 
@@ -55,12 +59,19 @@ impl World {
             accel: self.accel.with_traversal(traversal),
             prototype_leaves: Accel::prototype_leaves(self.scene.geometry()),
             scene: self.scene,
+            containment: self.containment,
         }
     }
 
     /// The scene.
     pub fn scene(&self) -> &Scene {
         &self.scene
+    }
+
+    /// The point containment index, built on first use.
+    pub(super) fn containment_index(&self) -> &ContainmentIndex {
+        self.containment
+            .get_or_init(|| Arc::new(ContainmentIndex::build(&self.scene)))
     }
 
     /// The accelerator (built over [`Self::scene`]'s primitives).
