@@ -20,11 +20,12 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _lumis
+from . import _contains, _lumis
+from ._contains import WindingNumberWarning
 from ._defines import define_strings
 from ._lumis import RayError, SceneError
 
@@ -37,6 +38,7 @@ __all__ = [
     "Scene",
     "SceneBuilder",
     "SceneError",
+    "WindingNumberWarning",
     "load",
 ]
 __version__ = "0.1.0"
@@ -323,6 +325,23 @@ class Scene:
             precision, accel, threads,
         )
         return AllHits(**d)
+
+    def contains(self, points: Any, *, threads: Optional[int] = None) -> np.ndarray:
+        """Whether each point (`(N, 3)` float32 or float64, rounded to float32 once, as rays
+        are) lies inside the scene's solids: bool `(N,)`. Exact for closed meshes (every edge
+        shared by an even number of faces, vertices at identical positions counted as one)
+        and spheres, with a point on the surface inside (the solid is a closed set); a scene
+        of several objects answers "inside any of them". A mesh that is not closed answers by
+        its generalized winding number at threshold 1/2, and a `WindingNumberWarning` says
+        how many points were answered so (`containment_methods` tells which objects).
+        Raises `ValueError` naming the row of a point that is not finite."""
+        return _contains.contains(self._s, points, threads)
+
+    @property
+    def containment_methods(self) -> List[str]:
+        """How each object answers `contains`, by `obj_id`: `"exact"` (a closed mesh or a
+        sphere) or `"winding_number"` (a mesh that is not closed)."""
+        return _lumis.containment_methods(self._s)
 
 
     def render(

@@ -96,7 +96,24 @@ fn row_text(row: [f64; 3]) -> String {
 /// Vertices `(V, 3)` of float32 or float64, rounded to float32, each finite and within the
 /// scene's coordinate limit.
 pub fn vertices(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
-    let array = untyped(obj, what, "(V, 3)", 2, Some(3))?;
+    rounded_rows(obj, what, "(V, 3)", Some(MAX_COORDINATE))
+}
+
+/// Query points `(N, 3)` of float32 or float64, rounded to float32, each finite there (any
+/// magnitude: a point beyond the scene's coordinates is simply outside it).
+pub fn points(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
+    rounded_rows(obj, what, "(N, 3)", None)
+}
+
+/// Rows of three float32 or float64 values rounded to float32 once, each finite before and
+/// after the rounding, and within `limit` when given.
+fn rounded_rows(
+    obj: &Bound<'_, PyAny>,
+    what: &str,
+    shape: &str,
+    limit: Option<f32>,
+) -> PyResult<Vec<Vec3>> {
+    let array = untyped(obj, what, shape, 2, Some(3))?;
     let (f32s, f64s);
     let view = if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f32>>() {
         f32s = a;
@@ -122,12 +139,21 @@ pub fn vertices(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
             )));
         }
         let p = Vec3::from_array(given.map(|x| x as f32));
-        if let Some(k) = (0..3).find(|&k| p[k].abs() > MAX_COORDINATE) {
+        if let Some(limit) = limit
+            && let Some(k) = (0..3).find(|&k| p[k].abs() > limit)
+        {
             return Err(bad(format!(
                 "{what} row {i}: coordinate {} (float32 {:e}) exceeds the scene's coordinate \
-                 limit |x| <= {MAX_COORDINATE:e}",
+                 limit |x| <= {limit:e}",
                 view.text(i, k),
                 p[k]
+            )));
+        }
+        if !p.is_finite() {
+            let row = (0..3).map(|k| view.text(i, k)).collect::<Vec<_>>();
+            return Err(bad(format!(
+                "{what} row {i}: [{}] is not finite as float32",
+                row.join(", ")
             )));
         }
         out.push(p);

@@ -9,6 +9,7 @@
 
 mod arrays;
 mod builder;
+mod contains;
 mod errors;
 mod hits;
 mod rays;
@@ -105,6 +106,8 @@ fn load(
 #[pymodule]
 fn _lumis(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(contains::contains, m)?)?;
+    m.add_function(wrap_pyfunction!(contains::containment_methods, m)?)?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<builder::PySceneBuilder>()?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
