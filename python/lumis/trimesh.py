@@ -37,8 +37,7 @@ from typing import Any, Optional, Tuple
 import numpy as np
 from trimesh import caching, util
 
-from . import Scene
-from . import _trimesh_fallback
+from . import Scene, _lumis
 
 __all__ = ["RayMeshIntersector"]
 
@@ -229,32 +228,36 @@ class _AllHits:
 
 
 class _MeshScene:
-    """One triangle mesh as a lumis scene, answering in face rows (`prim_id` of
-    `Scene.from_arrays`); a mesh without faces answers misses."""
+    """One triangle mesh as a lumis scene (`Scene.from_arrays`: `prim_id` is the face's row);
+    a mesh without faces answers misses."""
 
     def __init__(self, vertices: Any, faces: Any) -> None:
-        vertices = np.asarray(vertices)
         faces = np.asarray(faces)
         self.scene: Optional[Scene] = None
-        self.face_of_prim: Optional[np.ndarray] = None  # None: prim_id is the face's row
         if len(faces) == 0:
             return
-        if hasattr(Scene, "from_arrays"):
-            self.scene = Scene.from_arrays(vertices, faces)
-        else:
-            self.scene, self.face_of_prim = _trimesh_fallback.scene_from_arrays(vertices, faces)
+        self.scene = Scene.from_arrays(np.asarray(vertices), faces)
 
-    def _faces(self, prim: np.ndarray) -> np.ndarray:
-        return prim if self.face_of_prim is None else self.face_of_prim[prim]
-
-    def first_hits(self, origins: np.ndarray, directions: np.ndarray):
-        """`t` and face of each ray's nearest hit (face -1 for a miss)."""
+    def first_hits(self, origins: np.ndarray, directions: np.ndarray) -> Tuple[Any, Any]:
+        """`t` and face of each ray's nearest hit (face -1 for a miss), exact on each ray's
+        own line: the nearest-hit query is, for origins near the mesh (where it traces the
+        ray as given, and its answer is the first of all hits bit for bit); a ray from
+        farther away is answered by the first of its exact all hits instead, since the
+        nearest-hit query moves such an origin near the mesh, rounding it, and a ray that
+        only touches an edge could then miss it (docs/hard-cases.md)."""
         if self.scene is None or len(origins) == 0:
             return np.full(len(origins), np.inf, np.float32), np.full(len(origins), -1)
         h = self.scene.intersect(origins, directions, t_min=T_MIN)
-        if self.face_of_prim is None:
-            return h.t, h.prim_id
-        return h.t, np.where(h.prim_id >= 0, self.face_of_prim[np.maximum(h.prim_id, 0)], -1)
+        t, face = h.t, h.prim_id
+        far = np.flatnonzero(~_lumis.near_origins(self.scene._s, origins))
+        if far.size:
+            a = self.scene.intersect_all(origins[far], directions[far], t_min=T_MIN)
+            rays, first = np.unique(a.ray, return_index=True)
+            t[far] = np.inf
+            face[far] = -1
+            t[far[rays]] = a.t[first]
+            face[far[rays]] = a.prim_id[first]
+        return t, face
 
     def all_hits(self, origins: np.ndarray, directions: np.ndarray) -> _AllHits:
         """Every hit (crossings and grazes), ray by ray, each ray's by `t`."""
@@ -262,11 +265,9 @@ class _MeshScene:
             empty = np.zeros(0, dtype=np.int64)
             return _AllHits(empty, np.zeros(0, np.float32), empty)
         h = self.scene.intersect_all(origins, directions, t_min=T_MIN)
-        return _AllHits(h.ray, h.t, self._faces(h.prim_id))
+        return _AllHits(h.ray, h.t, h.prim_id)
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         if self.scene is None or len(points) == 0:
             return np.zeros(len(points), dtype=bool)
-        if hasattr(self.scene, "contains"):
-            return np.asarray(self.scene.contains(points), dtype=bool)
-        return _trimesh_fallback.contains(self.scene, points, T_MIN)
+        return np.asarray(self.scene.contains(points), dtype=bool)

@@ -11,6 +11,7 @@ mod arrays;
 mod builder;
 mod contains;
 mod errors;
+mod frame;
 mod hits;
 mod rays;
 mod render;
@@ -108,6 +109,7 @@ fn _lumis(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(contains::contains, m)?)?;
     m.add_function(wrap_pyfunction!(contains::containment_methods, m)?)?;
+    m.add_function(wrap_pyfunction!(frame::near_origins, m)?)?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<builder::PySceneBuilder>()?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
