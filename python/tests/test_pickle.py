@@ -170,7 +170,8 @@ def test_a_spawned_pool_answers_as_the_parent(tmp_path):
     chunks = np.array_split(np.arange(len(o)), 3)
     jobs = [(s, o[c], d[c]) for s in scenes for c in chunks]
     with multiprocessing.get_context("spawn").Pool(2) as pool:
-        results = pool.starmap(query, jobs)
+        # A worker that dies while unpickling a task leaves a pool waiting forever: bounded.
+        results = pool.starmap_async(query, jobs).get(timeout=120)
     for (s, oc, dc), got in zip(jobs, results):
         assert_same(got, answers(s, oc, dc))
 

@@ -1,0 +1,1 @@
+"""trimesh's tests folder, vendored (see ../README.md)."""
