@@ -20,34 +20,68 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+from typing import (
+    Any,
+    Callable,
+    Dict,
+    Iterable,
+    List,
+    Mapping,
+    Optional,
+    Sequence,
+    Tuple,
+    Union,
+    get_args,
+)
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _contains, _lumis
 from ._contains import WindingNumberWarning
 from ._defines import define_strings
 from ._lumis import RayError, SceneError
+from ._types import (
+    Accel,
+    Aov,
+    BoolArray,
+    Bound,
+    Display,
+    Float32Array,
+    Int64Array,
+    Layout,
+    Points,
+    Precision,
+    Tonemap,
+    Up,
+)
 
 __all__ = [
+    "Accel",
     "AllHits",
+    "Aov",
+    "Display",
     "Hits",
     "Image",
+    "Layout",
+    "Precision",
     "Prototype",
     "RayError",
     "Scene",
     "SceneBuilder",
     "SceneError",
+    "Tonemap",
+    "Up",
     "WindingNumberWarning",
     "load",
 ]
 __version__ = "0.1.0"
 
 PathLike = Union[str, "os.PathLike[str]"]
-#: The accelerators (`lumis hits --accel`).
-ACCELS = ("sah", "brute", "bsp", "bsmp")
-#: The primitive tests (`lumis hits --precision`).
-PRECISIONS = ("watertight", "fast", "double")
+#: The accelerators (`lumis hits --accel`), the default first.
+ACCELS: Tuple[Accel, ...] = get_args(Accel)
+#: The primitive tests (`lumis hits --precision`), the default first.
+PRECISIONS: Tuple[Precision, ...] = get_args(Precision)
 
 
 @dataclass(frozen=True)
@@ -63,28 +97,28 @@ class Hits:
     `lumis hits --instance-ids` appends).
     """
 
-    t: np.ndarray
-    prim_id: np.ndarray
-    obj_id: np.ndarray
-    u: np.ndarray
-    v: np.ndarray
-    normal: np.ndarray
-    kind: np.ndarray
-    inst_id: np.ndarray
+    t: Float32Array
+    prim_id: Int64Array
+    obj_id: Int64Array
+    u: Float32Array
+    v: Float32Array
+    normal: Float32Array
+    kind: npt.NDArray[np.int8]
+    inst_id: Int64Array
 
     @property
-    def hit(self) -> np.ndarray:
+    def hit(self) -> BoolArray:
         """Bool mask of the rays that hit something."""
         return self.prim_id >= 0
 
     def __len__(self) -> int:
         return len(self.t)
 
-    def as_dict(self) -> Dict[str, np.ndarray]:
+    def as_dict(self) -> Dict[str, npt.NDArray[Any]]:
         """The arrays by name."""
         return dict(self.__dict__)
 
-    def rows(self, instance_ids: bool = False) -> np.ndarray:
+    def rows(self, instance_ids: bool = False) -> Float32Array:
         """The `(N, 9)` float32 rows `lumis hits --out` writes (ids as float32); with
         `instance_ids`, `(N, 10)` with `inst_id` last, as `lumis hits --instance-ids`."""
         out = np.empty((len(self), 10 if instance_ids else 9), np.float32)
@@ -112,22 +146,22 @@ class AllHits:
     vertex (docs/hard-cases.md, "All hits along a ray").
     """
 
-    ray: np.ndarray
-    t: np.ndarray
-    prim_id: np.ndarray
-    obj_id: np.ndarray
-    u: np.ndarray
-    v: np.ndarray
-    normal: np.ndarray
-    kind: np.ndarray
-    graze: np.ndarray
-    inst_id: np.ndarray
+    ray: Int64Array
+    t: Float32Array
+    prim_id: Int64Array
+    obj_id: Int64Array
+    u: Float32Array
+    v: Float32Array
+    normal: Float32Array
+    kind: npt.NDArray[np.int8]
+    graze: BoolArray
+    inst_id: Int64Array
 
     def __len__(self) -> int:
         return len(self.t)
 
 
-class Image(Dict[str, np.ndarray]):
+class Image(Dict[str, npt.NDArray[Any]]):
     """A render: the EXR's channels by name (`R`, `G`, `B`, `A`, `Z`, `N.X`, `N.Y`, `N.Z`,
     `id.object`, `id.prim`, and `albedo.R/G/B`, `P.X/Y/Z`, `uv.U/V`, the light paths
     (`diffuse.R/G/B`, `specular`, `reflection`, `refraction`, `emission`, `ambient`,
@@ -145,30 +179,30 @@ class Image(Dict[str, np.ndarray]):
     #: Whether it was computed from the image (glTF and OBJ files without `exposure=`).
     auto_exposure: bool
 
-    def rgba(self) -> np.ndarray:
+    def rgba(self) -> npt.NDArray[Any]:
         """`(H, W, 4)` RGBA as stored (in either layout)."""
         prefix = "" if "R" in self else "ViewLayer.Combined."
         return np.stack([self[prefix + c] for c in "RGBA"], axis=-1)
 
 
-def _points(a: Any) -> Any:
+def _points(a: npt.ArrayLike) -> Points:
     """An `(N, 3)` array as float32 or float64, converted only when it is neither."""
-    a = np.asarray(a)
-    if a.dtype != np.float32 and a.dtype != np.float64:
-        a = a.astype(np.float64)
-    return a
+    array = np.asarray(a)
+    if array.dtype == np.float32 or array.dtype == np.float64:
+        return array
+    return array.astype(np.float64)
 
 
-def _bound(x: Any) -> Any:
+def _bound(x: npt.ArrayLike) -> Bound:
     """A `t_min`/`t_max`: a float, or a float32/float64 array."""
     if isinstance(x, (int, float)):
         return float(x)
     a = np.asarray(x)
     if a.ndim == 0:
         return float(a)
-    if a.dtype != np.float32 and a.dtype != np.float64:
-        a = a.astype(np.float64)
-    return a
+    if a.dtype == np.float32 or a.dtype == np.float64:
+        return a
+    return a.astype(np.float64)
 
 
 class Scene:
@@ -193,11 +227,11 @@ class Scene:
 
     __slots__ = ("_s",)
 
-    def __init__(self, inner: Any) -> None:
+    def __init__(self, inner: _lumis.Scene) -> None:
         self._s = inner
 
     @classmethod
-    def from_arrays(cls, vertices: Any, faces: Any) -> "Scene":
+    def from_arrays(cls, vertices: npt.ArrayLike, faces: npt.ArrayLike) -> "Scene":
         """A scene of one triangle mesh: `vertices` `(V, 3)` float32 or float64 (other real
         dtypes are converted to float64 first), `faces` `(F, 3)` of any integer dtype, both
         read in place (any strides). Object id 0; `prim_id` is the face's row (degenerate
@@ -210,7 +244,7 @@ class Scene:
         builder.add_mesh(vertices, faces)
         return builder.build()
 
-    def __reduce__(self) -> Any:
+    def __reduce__(self) -> Tuple[Callable[[Mapping[str, Any]], "Scene"], Tuple[Dict[str, Any]]]:
         from ._builder import scene_from_state
 
         # A file scene pickles as its path, defines, options and the SHA-256 of every file
@@ -231,7 +265,7 @@ class Scene:
         return None if p is None else str(p)
 
     @property
-    def first_prim(self) -> np.ndarray:
+    def first_prim(self) -> Int64Array:
         """int64 `(num_objects,)`: the `prim_id` of each object's first primitive (-1 for an
         object without any). A mesh's face `row` is primitive `first_prim[obj_id] + row`;
         on an instance `prim_id` counts the prototype's primitives, so its entry is 0."""
@@ -254,66 +288,66 @@ class Scene:
         return self._s.settings
 
     @property
-    def warnings(self) -> list:
+    def warnings(self) -> List[str]:
         """What the loader warned about (`lumis render` prints these)."""
         return self._s.warnings
 
-    def triangles(self) -> np.ndarray:
+    def triangles(self) -> Float32Array:
         """Every triangle, float32 `(M, 10)`: primitive id, then the three world-space
         vertices (as `lumis hits --triangles-out`)."""
         return self._s.triangles()
 
-    def spheres(self) -> np.ndarray:
+    def spheres(self) -> Float32Array:
         """Every sphere, float32 `(K, 5)`: primitive id, centre xyz, radius (as
         `lumis hits --spheres-out`)."""
         return self._s.spheres()
 
     def intersect(
         self,
-        origins: Any,
-        directions: Any,
-        t_min: Any = 0.0,
-        t_max: Any = math.inf,
+        origins: npt.ArrayLike,
+        directions: npt.ArrayLike,
+        t_min: npt.ArrayLike = 0.0,
+        t_max: npt.ArrayLike = math.inf,
         *,
-        precision: Optional[str] = None,
-        accel: str = "sah",
+        precision: Optional[Precision] = None,
+        accel: Accel = "sah",
         threads: Optional[int] = None,
     ) -> Hits:
         """The nearest hit of each ray (see the class docs for the arguments): bit for bit
         the rows `lumis hits` writes for the same float32 rays."""
         d = self._s.intersect(
-            _points(origins), _points(directions), _bound(t_min), _bound(t_max),
-            precision, accel, threads,
+            _points(origins), _points(directions), t_min=_bound(t_min), t_max=_bound(t_max),
+            precision=precision, accel=accel, threads=threads,
         )
         return Hits(**d)
 
     def occluded(
         self,
-        origins: Any,
-        directions: Any,
-        t_min: Any = 0.0,
-        t_max: Any = math.inf,
+        origins: npt.ArrayLike,
+        directions: npt.ArrayLike,
+        t_min: npt.ArrayLike = 0.0,
+        t_max: npt.ArrayLike = math.inf,
         *,
-        precision: Optional[str] = None,
-        accel: str = "sah",
+        precision: Optional[Precision] = None,
+        accel: Accel = "sah",
         threads: Optional[int] = None,
-    ) -> np.ndarray:
+    ) -> BoolArray:
         """Whether anything blocks each ray within `(t_min, t_max]` (bool `(N,)`): the
         any-hit query of `lumis hits --any-hit` (true where its `t` is finite)."""
         return self._s.occluded(
-            _points(origins), _points(directions), _bound(t_min), _bound(t_max),
-            precision, accel, threads,
+            _points(origins), _points(directions), t_min=_bound(t_min), t_max=_bound(t_max),
+            precision=precision, accel=accel, threads=threads,
         )
 
     def intersect_all(
         self,
-        origins: Any,
-        directions: Any,
-        t_min: Any = 0.0,
-        t_max: Any = math.inf,
+        origins: npt.ArrayLike,
+        directions: npt.ArrayLike,
+        t_min: npt.ArrayLike = 0.0,
+        t_max: npt.ArrayLike = math.inf,
         *,
-        precision: Optional[str] = None,
-        accel: str = "sah",
+        precision: Optional[Precision] = None,
+        accel: Accel = "sah",
         threads: Optional[int] = None,
     ) -> AllHits:
         """Every hit along each ray within `(t_min, t_max]`, each surface crossing counted
@@ -321,12 +355,12 @@ class Scene:
         (`AllHits`): bit for bit the rows of `lumis hits --all` for the same float32 rays. The
         watertight triangle test is used also with `precision="fast"`."""
         d = self._s.intersect_all(
-            _points(origins), _points(directions), _bound(t_min), _bound(t_max),
-            precision, accel, threads,
+            _points(origins), _points(directions), t_min=_bound(t_min), t_max=_bound(t_max),
+            precision=precision, accel=accel, threads=threads,
         )
         return AllHits(**d)
 
-    def contains(self, points: Any, *, threads: Optional[int] = None) -> np.ndarray:
+    def contains(self, points: npt.ArrayLike, *, threads: Optional[int] = None) -> BoolArray:
         """Whether each point (`(N, 3)` float32 or float64, rounded to float32 once, as rays
         are) lies inside the scene's solids: bool `(N,)`. Exact for closed meshes (every edge
         shared by an even number of faces, vertices at identical positions counted as one)
@@ -351,17 +385,17 @@ class Scene:
         spp: Optional[int] = None,
         *,
         max_depth: Optional[int] = None,
-        aovs: Sequence[str] = (),
+        aovs: Sequence[Aov] = (),
         seed: int = 0,
         threads: Optional[int] = None,
         exposure: Optional[float] = None,
-        accel: str = "sah",
-        precision: Optional[str] = None,
+        accel: Accel = "sah",
+        precision: Optional[Precision] = None,
         transparent: bool = False,
         float_rgba: bool = False,
-        layout: str = "lumis",
-        tonemap: str = "none",
-        display: Optional[str] = None,
+        layout: Layout = "lumis",
+        tonemap: Tonemap = "none",
+        display: Optional[Display] = None,
         path: Union[PathLike, Sequence[PathLike], None] = None,
     ) -> Image:
         """Renders the scene as `lumis render` does with the same options and returns the
@@ -378,14 +412,16 @@ class Scene:
         `threads`. Raises `SceneError` if the render cannot run (a setting out of range).
         """
         if path is None:
-            paths: list = []
+            paths: List[str] = []
         elif isinstance(path, (str, os.PathLike)):
             paths = [os.fspath(path)]
         else:
             paths = [os.fspath(p) for p in path]
         r = self._s.render(
-            width, height, spp, max_depth, list(aovs), seed, threads, exposure, accel,
-            precision, transparent, float_rgba, layout, tonemap, display, paths,
+            width=width, height=height, spp=spp, max_depth=max_depth, aovs=list(aovs),
+            seed=seed, threads=threads, exposure=exposure, accel=accel, precision=precision,
+            transparent=transparent, float_rgba=float_rgba, layout=layout, tonemap=tonemap,
+            display=display, paths=paths,
         )
         image = Image()
         for name, plane in r["channels"].items():
@@ -405,7 +441,7 @@ def load(
     *,
     gltf_scene: Optional[int] = None,
     camera: Optional[int] = None,
-    up: Optional[str] = None,
+    up: Optional[Up] = None,
     auto_camera: bool = False,
     frame: Optional[int] = None,
     flatten_instances: bool = False,
@@ -432,12 +468,11 @@ def load(
     load read; unpickling reloads it and raises `SceneError` naming a file that changed since.
     """
     inner = _lumis.load(
-        os.fspath(path), define_strings(defines, overrides),
+        os.fspath(path), defines=define_strings(defines, overrides),
         gltf_scene=gltf_scene, camera=camera, up=up, auto_camera=auto_camera, frame=frame,
         flatten_instances=flatten_instances,
     )
     return Scene(inner)
-
 
 
 # After `Scene`, which the builder makes.

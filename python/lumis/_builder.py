@@ -5,39 +5,42 @@ arrays) and name the arguments."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Mapping, Optional
+from typing import TYPE_CHECKING, Any, List, Mapping, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _lumis
 from ._lumis import SceneError
+from ._types import Float64Array, Points
 
 if TYPE_CHECKING:
     from . import Scene
 
 
-def _vertex_array(a: Any, what: str) -> Any:
+def _vertex_array(a: npt.ArrayLike, what: str) -> Points:
     """`(V, 3)` vertices as float32 or float64 (read in place); other real dtypes become
     float64 first (exact for integers up to 2**53), anything else is refused."""
-    a = np.asarray(a)
-    if a.dtype.kind not in "biuf":
-        raise ValueError(f"{what}: dtype {a.dtype} is not a real number type")
-    if a.dtype != np.float32 and a.dtype != np.float64:
-        a = a.astype(np.float64)
-    elif not a.dtype.isnative:
-        a = a.astype(a.dtype.newbyteorder("="))
-    return a
+    array = np.asarray(a)
+    if array.dtype.kind not in "biuf":
+        raise ValueError(f"{what}: dtype {array.dtype} is not a real number type")
+    if array.dtype != np.float32 and array.dtype != np.float64:
+        return array.astype(np.float64)
+    if not array.dtype.isnative:
+        return array.astype(array.dtype.newbyteorder("="))
+    return array
 
 
-def _face_array(a: Any) -> Any:
-    """`(F, 3)` faces, any integer dtype (read in place; byte-swapped ones converted)."""
-    a = np.asarray(a)
-    if a.dtype.kind in "iu" and not a.dtype.isnative:
-        a = a.astype(a.dtype.newbyteorder("="))
-    return a
+def _face_array(a: npt.ArrayLike) -> npt.NDArray[Any]:
+    """`(F, 3)` faces, any integer dtype (read in place; byte-swapped ones converted).
+    Other dtypes pass through, for the compiled builder to refuse by name."""
+    array = np.asarray(a)
+    if array.dtype.kind in "iu" and not array.dtype.isnative:
+        array = array.astype(array.dtype.newbyteorder("="))
+    return array
 
 
-def _float64(a: Any, what: str) -> Any:
+def _float64(a: npt.ArrayLike, what: str) -> Float64Array:
     """A small array (a centre, a matrix) as float64, or a `ValueError` naming `what`."""
     try:
         return np.asarray(a, dtype=np.float64)
@@ -85,7 +88,9 @@ class SceneBuilder:
     def __init__(self) -> None:
         self._b = _lumis.SceneBuilder()
 
-    def add_mesh(self, vertices: Any, faces: Any, *, name: Optional[str] = None) -> int:
+    def add_mesh(
+        self, vertices: npt.ArrayLike, faces: npt.ArrayLike, *, name: Optional[str] = None
+    ) -> int:
         """Adds a triangle mesh object (`vertices` `(V, 3)` float32/float64, `faces` `(F, 3)`
         integers, as `Scene.from_arrays`); returns its `obj_id`."""
         obj_id, _ = self._b.add_mesh(
@@ -94,7 +99,9 @@ class SceneBuilder:
         )
         return int(obj_id)
 
-    def add_sphere(self, center: Any, radius: float, *, name: Optional[str] = None) -> int:
+    def add_sphere(
+        self, center: npt.ArrayLike, radius: float, *, name: Optional[str] = None
+    ) -> int:
         """Adds a sphere object (`center` 3 numbers, `radius` > 0, both rounded to float32);
         returns its `obj_id`."""
         obj_id, _ = self._b.add_sphere(
@@ -102,7 +109,7 @@ class SceneBuilder:
         )
         return int(obj_id)
 
-    def add_prototype(self, vertices: Any, faces: Any) -> Prototype:
+    def add_prototype(self, vertices: npt.ArrayLike, faces: npt.ArrayLike) -> Prototype:
         """Adds a mesh for instances to place (not drawn by itself); its hierarchy is built
         once, however many instances place it."""
         index = self._b.add_prototype(
@@ -111,7 +118,7 @@ class SceneBuilder:
         return Prototype(self, int(index))
 
     def add_instance(
-        self, prototype: Prototype, matrix: Any, *, name: Optional[str] = None
+        self, prototype: Prototype, matrix: npt.ArrayLike, *, name: Optional[str] = None
     ) -> int:
         """Places `prototype` by `matrix`, an affine transform `(4, 4)` (last row
         `[0, 0, 0, 1]`) or `(3, 4)`, row-major as numpy and trimesh write them:
@@ -145,10 +152,11 @@ def scene_from_state(state: Mapping[str, Any]) -> "Scene":
 
     if kind == "file":
         kwargs = {k: v for k, v in state.items() if k not in ("kind", "path", "defines")}
-        return Scene(_lumis.load(state["path"], list(state["defines"]), **kwargs))
+        defines = list(state["defines"])
+        return Scene(_lumis.load(state["path"], defines=defines, **kwargs))
     if kind == "arrays":
         builder = SceneBuilder()
-        prototypes = []
+        prototypes: List[Prototype] = []
         for step in state["steps"]:
             op = step["op"]
             if op == "mesh":

@@ -5,11 +5,13 @@ containment")."""
 from __future__ import annotations
 
 import warnings
-from typing import Any, List, Optional
+from typing import List, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _lumis
+from ._types import BoolArray, Points
 
 
 class WindingNumberWarning(UserWarning):
@@ -18,15 +20,15 @@ class WindingNumberWarning(UserWarning):
     objects answer that way."""
 
 
-def query_points(points: Any) -> Any:
+def query_points(points: npt.ArrayLike) -> Points:
     """`(N, 3)` points as float32 or float64 (read in place), others converted to float64."""
     a = np.asarray(points)
-    if a.dtype != np.float32 and a.dtype != np.float64:
-        a = a.astype(np.float64)
-    return a
+    if a.dtype == np.float32 or a.dtype == np.float64:
+        return a
+    return a.astype(np.float64)
 
 
-def contains(inner: Any, points: Any, threads: Optional[int]) -> Any:
+def contains(inner: _lumis.Scene, points: npt.ArrayLike, threads: Optional[int]) -> BoolArray:
     """The bool answers; warns once per call when any came from the winding number."""
     inside, winding = _lumis.contains(inner, query_points(points), threads=threads)
     count = int(np.count_nonzero(winding))

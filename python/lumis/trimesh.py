@@ -32,12 +32,14 @@ change (trimesh's cache, keyed on the mesh's hash, as the Embree engine's).
 
 from __future__ import annotations
 
-from typing import Any, Optional, Tuple
+from typing import Any, Dict, Literal, Optional, Tuple, Union, overload
 
 import numpy as np
-from trimesh import caching, util
+import numpy.typing as npt
+from trimesh import Trimesh, caching, util
 
 from . import Scene, _lumis
+from ._types import BoolArray, Float32Array, Float64Array, Int64Array
 
 __all__ = ["RayMeshIntersector"]
 
@@ -54,22 +56,22 @@ class RayMeshIntersector:
     lumis's tests are exact at any scale the float32 range holds.
     """
 
-    def __init__(self, geometry: Any, scale_to_box: bool = True) -> None:
+    def __init__(self, geometry: Trimesh, scale_to_box: bool = True) -> None:
         self.mesh = geometry
         self._scale_to_box = scale_to_box
-        self._cache = caching.Cache(id_function=self.mesh.__hash__)
+        self._cache = caching.Cache(id_function=self.mesh.__hash__)  # type: ignore[no-untyped-call]
 
-    @caching.cache_decorator
+    @caching.cache_decorator  # type: ignore[untyped-decorator]
     def _scene(self) -> "_MeshScene":
         """The lumis scene of the mesh as it is now (rebuilt when the mesh changes)."""
         return _MeshScene(self.mesh.vertices, self.mesh.faces)
 
     def intersects_location(
         self,
-        ray_origins: Any,
-        ray_directions: Any,
+        ray_origins: npt.ArrayLike,
+        ray_directions: npt.ArrayLike,
         multiple_hits: bool = True,
-    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    ) -> Tuple[Float64Array, Int64Array, Int64Array]:
         """Where rays hit the surface: `locations` float64 `(m, 3)`, `index_ray` int64 `(m,)`,
         `index_tri` int64 `(m,)` (indexes of `mesh.faces`)."""
         index_tri, index_ray, locations = self.intersects_id(
@@ -80,14 +82,45 @@ class RayMeshIntersector:
         )
         return locations, index_ray, index_tri
 
+    @overload
     def intersects_id(
         self,
-        ray_origins: Any,
-        ray_directions: Any,
+        ray_origins: npt.ArrayLike,
+        ray_directions: npt.ArrayLike,
+        multiple_hits: bool = ...,
+        max_hits: int = ...,
+        return_locations: Literal[False] = ...,
+    ) -> Tuple[Int64Array, Int64Array]: ...
+
+    @overload
+    def intersects_id(
+        self,
+        ray_origins: npt.ArrayLike,
+        ray_directions: npt.ArrayLike,
+        multiple_hits: bool = ...,
+        max_hits: int = ...,
+        *,
+        return_locations: Literal[True],
+    ) -> Tuple[Int64Array, Int64Array, Float64Array]: ...
+
+    @overload
+    def intersects_id(
+        self,
+        ray_origins: npt.ArrayLike,
+        ray_directions: npt.ArrayLike,
+        multiple_hits: bool,
+        max_hits: int,
+        return_locations: bool,
+    ) -> Union[Tuple[Int64Array, Int64Array], Tuple[Int64Array, Int64Array, Float64Array]]: ...
+
+    def intersects_id(
+        self,
+        ray_origins: npt.ArrayLike,
+        ray_directions: npt.ArrayLike,
         multiple_hits: bool = True,
         max_hits: int = 100,
         return_locations: bool = False,
-    ) -> Tuple[np.ndarray, ...]:
+    ) -> Union[Tuple[Int64Array, Int64Array], Tuple[Int64Array, Int64Array, Float64Array]]:
         """The triangles rays hit: `index_tri` int64 `(m,)`, `index_ray` int64 `(m,)` and,
         with `return_locations`, `locations` float64 `(m, 3)`. With `multiple_hits` every
         crossing and touch along each ray, the first `max_hits` of each by distance; without,
@@ -109,7 +142,9 @@ class RayMeshIntersector:
             return index_tri, index_ray
         return index_tri, index_ray, rays.locations(index_ray, t)
 
-    def intersects_first(self, ray_origins: Any, ray_directions: Any) -> np.ndarray:
+    def intersects_first(
+        self, ray_origins: npt.ArrayLike, ray_directions: npt.ArrayLike
+    ) -> npt.NDArray[np.int32]:
         """The nearest triangle each ray hits: int32 `(n,)`, -1 for a miss."""
         rays = _Rays(ray_origins, ray_directions)
         first = np.full(rays.count, -1, dtype=np.int32)
@@ -117,7 +152,9 @@ class RayMeshIntersector:
         first[rays.index] = tri
         return first
 
-    def intersects_any(self, ray_origins: Any, ray_directions: Any) -> np.ndarray:
+    def intersects_any(
+        self, ray_origins: npt.ArrayLike, ray_directions: npt.ArrayLike
+    ) -> BoolArray:
         """Whether each ray hits the surface: bool `(n,)`."""
         rays = _Rays(ray_origins, ray_directions)
         hit = np.zeros(rays.count, dtype=bool)
@@ -125,7 +162,7 @@ class RayMeshIntersector:
         hit[rays.index] = tri >= 0
         return hit
 
-    def contains_points(self, points: Any) -> np.ndarray:
+    def contains_points(self, points: npt.ArrayLike) -> BoolArray:
         """Whether each point is inside the mesh: bool `(n,)`, exact for the float32 point
         (`Scene.contains`: a point on the surface is inside). Points that are not finite as
         float32 are outside."""
@@ -141,14 +178,14 @@ class RayMeshIntersector:
             contains[finite] = self._scene.contains(points[finite])
         return contains
 
-    def __getstate__(self) -> dict:
+    def __getstate__(self) -> Dict[str, Any]:
         state = self.__dict__.copy()
         state.pop("_cache", None)  # the scene is rebuilt on first use
         return state
 
-    def __setstate__(self, state: dict) -> None:
+    def __setstate__(self, state: Dict[str, Any]) -> None:
         self.__dict__.update(state)
-        self._cache = caching.Cache(id_function=self.mesh.__hash__)
+        self._cache = caching.Cache(id_function=self.mesh.__hash__)  # type: ignore[no-untyped-call]
 
     def __deepcopy__(self, *args: Any) -> "RayMeshIntersector":
         return self.__copy__()
@@ -163,7 +200,7 @@ class _Rays:
     scaled by a power of two, which changes neither the line nor its float32 rounding but
     keeps it within float32's range."""
 
-    def __init__(self, ray_origins: Any, ray_directions: Any) -> None:
+    def __init__(self, ray_origins: npt.ArrayLike, ray_directions: npt.ArrayLike) -> None:
         origins = np.asarray(ray_origins, dtype=np.float64)
         directions = np.asarray(ray_directions, dtype=np.float64)
         if origins.shape != directions.shape:
@@ -191,16 +228,19 @@ class _Rays:
             directions[rescale] = np.ldexp(directions[rescale], -exponent[:, None])
         self.origins, self.directions = origins, directions
 
-    def locations(self, index_ray: np.ndarray, t: np.ndarray) -> np.ndarray:
+    def locations(self, index_ray: Int64Array, t: Float32Array) -> Float64Array:
         """`origin + t * direction` in float64 for hits of rows `index_ray` at `t`."""
         row = index_ray if self.all_traced else np.searchsorted(self.index, index_ray)
         return self.origins[row] + t.astype(np.float64)[:, None] * self.directions[row]
 
 
-def _row_max_abs(a: np.ndarray) -> np.ndarray:
+def _row_max_abs(a: Float64Array) -> Float64Array:
     """Largest magnitude of each row of an `(n, 3)` array, NaN where a row has one (numpy's
     row reductions are several times slower on rows of three)."""
-    return np.maximum(np.maximum(np.abs(a[:, 0]), np.abs(a[:, 1])), np.abs(a[:, 2]))
+    largest: Float64Array = np.maximum(
+        np.maximum(np.abs(a[:, 0]), np.abs(a[:, 1])), np.abs(a[:, 2])
+    )
+    return largest
 
 
 # The smallest magnitude that rounds to an infinite float32: float32's largest value plus
@@ -208,7 +248,7 @@ def _row_max_abs(a: np.ndarray) -> np.ndarray:
 _F32_ROUNDS_TO_INF = 2.0**128 - 2.0**103
 
 
-def _first_of_each_ray(ray: np.ndarray, max_hits: int) -> np.ndarray:
+def _first_of_each_ray(ray: Int64Array, max_hits: int) -> BoolArray:
     """Mask of the first `max_hits` entries of each ray in `ray` (grouped, in order)."""
     if len(ray) == 0 or max_hits <= 0:
         return np.zeros(len(ray), dtype=bool)
@@ -217,13 +257,14 @@ def _first_of_each_ray(ray: np.ndarray, max_hits: int) -> np.ndarray:
     starts = np.r_[0, np.flatnonzero(ray[1:] != ray[:-1]) + 1]
     lengths = np.diff(np.r_[starts, len(ray)])
     rank = np.arange(len(ray)) - np.repeat(starts, lengths)
-    return rank < max_hits
+    first: BoolArray = rank < max_hits
+    return first
 
 
 class _AllHits:
     __slots__ = ("ray", "t", "tri")
 
-    def __init__(self, ray: np.ndarray, t: np.ndarray, tri: np.ndarray) -> None:
+    def __init__(self, ray: Int64Array, t: Float32Array, tri: Int64Array) -> None:
         self.ray, self.t, self.tri = ray, t, tri
 
 
@@ -231,14 +272,16 @@ class _MeshScene:
     """One triangle mesh as a lumis scene (`Scene.from_arrays`: `prim_id` is the face's row);
     a mesh without faces answers misses."""
 
-    def __init__(self, vertices: Any, faces: Any) -> None:
+    def __init__(self, vertices: npt.ArrayLike, faces: npt.ArrayLike) -> None:
         faces = np.asarray(faces)
         self.scene: Optional[Scene] = None
         if len(faces) == 0:
             return
         self.scene = Scene.from_arrays(np.asarray(vertices), faces)
 
-    def first_hits(self, origins: np.ndarray, directions: np.ndarray) -> Tuple[Any, Any]:
+    def first_hits(
+        self, origins: Float64Array, directions: Float64Array
+    ) -> Tuple[Float32Array, Int64Array]:
         """`t` and face of each ray's nearest hit (face -1 for a miss), exact on each ray's
         own line: the nearest-hit query is, for origins near the mesh (where it traces the
         ray as given, and its answer is the first of all hits bit for bit); a ray from
@@ -246,7 +289,8 @@ class _MeshScene:
         nearest-hit query moves such an origin near the mesh, rounding it, and a ray that
         only touches an edge could then miss it (docs/hard-cases.md)."""
         if self.scene is None or len(origins) == 0:
-            return np.full(len(origins), np.inf, np.float32), np.full(len(origins), -1)
+            miss = np.full(len(origins), -1, np.int64)
+            return np.full(len(origins), np.inf, np.float32), miss
         h = self.scene.intersect(origins, directions, t_min=T_MIN)
         t, face = h.t, h.prim_id
         far = np.flatnonzero(~_lumis.near_origins(self.scene._s, origins))
@@ -259,7 +303,7 @@ class _MeshScene:
             face[far[rays]] = a.prim_id[first]
         return t, face
 
-    def all_hits(self, origins: np.ndarray, directions: np.ndarray) -> _AllHits:
+    def all_hits(self, origins: Float64Array, directions: Float64Array) -> _AllHits:
         """Every hit (crossings and grazes), ray by ray, each ray's by `t`."""
         if self.scene is None or len(origins) == 0:
             empty = np.zeros(0, dtype=np.int64)
@@ -267,7 +311,7 @@ class _MeshScene:
         h = self.scene.intersect_all(origins, directions, t_min=T_MIN)
         return _AllHits(h.ray, h.t, h.prim_id)
 
-    def contains(self, points: np.ndarray) -> np.ndarray:
+    def contains(self, points: Float64Array) -> BoolArray:
         if self.scene is None or len(points) == 0:
             return np.zeros(len(points), dtype=bool)
         return np.asarray(self.scene.contains(points), dtype=bool)

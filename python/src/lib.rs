@@ -9,6 +9,7 @@
 
 mod arrays;
 mod builder;
+mod choices;
 mod contains;
 mod errors;
 mod frame;
@@ -21,7 +22,6 @@ mod threads;
 
 use pyo3::prelude::*;
 
-use lumis_core::scene::UpAxis;
 use lumis_io::files::record_inputs;
 use lumis_io::formats::{LoadOptions, Override};
 
@@ -33,7 +33,7 @@ pub use errors::{RayError, SceneError};
 /// (what a pickle recorded: `(path, digest)` pairs) refuses, by name, a file that changed.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-#[pyo3(signature = (path, defines=Vec::new(), *, gltf_scene=None, camera=None, up=None, auto_camera=false, frame=None, flatten_instances=false, expect_files=None))]
+#[pyo3(signature = (path, *, defines=Vec::new(), gltf_scene=None, camera=None, up=None, auto_camera=false, frame=None, flatten_instances=false, expect_files=None))]
 fn load(
     py: Python<'_>,
     path: std::path::PathBuf,
@@ -53,15 +53,7 @@ fn load(
                 .map_err(|e| SceneError::new_err(format!("-D {d}: {e}")))
         })
         .collect::<PyResult<Vec<_>>>()?;
-    let up = match up {
-        None | Some("y") | Some("Y") => UpAxis::Y,
-        Some("z") | Some("Z") => UpAxis::Z,
-        Some(other) => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "up={other:?}: expected \"y\" or \"z\""
-            )));
-        }
-    };
+    let up = choices::up(up)?;
     if camera.is_some() && auto_camera {
         return Err(pyo3::exceptions::PyValueError::new_err(
             "camera and auto_camera conflict (as --camera and --auto-camera do)",
@@ -116,5 +108,6 @@ fn _lumis(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("RayError", m.py().get_type::<RayError>())?;
     m.add("HIT_COLUMNS", lumis_core::batch::HIT_COLUMNS)?;
     m.add("ALL_HITS_AVAILABLE", scene::ALL_HITS_AVAILABLE)?;
+    m.add("CHOICES", choices::names(m.py())?)?;
     Ok(())
 }

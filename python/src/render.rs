@@ -12,35 +12,32 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use lumis_core::accel::{AccelKind, BuildOptions};
-use lumis_core::film::{DisplayTransform, Tonemap, check_finite};
-use lumis_core::geometry::Precision;
-use lumis_core::render::{PassRequest, RenderOptions, render as render_world, worker_threads};
+use lumis_core::film::{Tonemap, check_finite};
+use lumis_core::render::{RenderOptions, render as render_world, worker_threads};
 use lumis_core::scene::World;
 use lumis_io::output::{
-    AovLayers, ChannelLayout, Develop, ExrCamera, ExrMetadata, ExrSamples, StagedOutputs, develop,
+    ChannelLayout, Develop, ExrCamera, ExrMetadata, ExrSamples, StagedOutputs, develop,
     exr_channels,
+};
+use lumis_io::request::{
+    Aov, SceneOrigin, SettingsFlags, aov_layers, check_exposure, exposure_to_apply, pass_request,
 };
 
 use crate::errors::{SceneError, chain};
 use crate::scene::PyScene;
 
-/// What `Scene.render` asks for (the Python wrapper has checked the names).
+/// What `Scene.render` asks for, its names parsed ([`crate::choices`]).
 pub struct Request {
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    pub spp: Option<u32>,
-    pub max_depth: Option<u32>,
-    pub aovs: Vec<String>,
+    pub settings: SettingsFlags,
+    pub aovs: Vec<Aov>,
     pub seed: u64,
     pub threads: Option<usize>,
     pub exposure: Option<f32>,
     pub accel: AccelKind,
-    pub precision: Option<Precision>,
     pub transparent: bool,
     pub float_rgba: bool,
     pub layout: ChannelLayout,
     pub tonemap: Tonemap,
-    pub display: Option<DisplayTransform>,
     pub paths: Vec<PathBuf>,
 }
 
@@ -54,52 +51,29 @@ pub fn render<'py>(
     // The settings as `lumis render`'s flags set them over the file's.
     let mut s = scene.scene().clone();
     let st = s.settings_mut();
-    st.width = request.width.unwrap_or(st.width);
-    st.height = request.height.unwrap_or(st.height);
-    st.spp = request.spp.unwrap_or(st.spp);
-    st.max_depth = request.max_depth.unwrap_or(st.max_depth);
-    st.precision = request.precision.unwrap_or(st.precision);
-    st.display = request.display.unwrap_or(st.display);
+    request.settings.apply(st);
     st.validate().map_err(|e| {
         PyValueError::new_err(format!(
             "the render settings after the arguments: {}",
             chain(&e)
         ))
     })?;
-    if let Some(ev) = request.exposure
-        && (ev.is_nan() || ev.abs() > lumis_core::scene::limits::MAX_EXPOSURE)
-    {
-        return Err(PyValueError::new_err(format!(
-            "exposure={ev}: expected a finite number of stops within +-64"
-        )));
+    if let Some(ev) = request.exposure {
+        check_exposure(ev).map_err(|m| PyValueError::new_err(format!("exposure={ev}: {m}")))?;
     }
-    // The exposure: given, else the scene's, else (glTF and OBJ files) automatic.
-    let fixed_exposure = match request.exposure {
-        Some(ev) => Some(ev),
-        // A scene from arrays is a bare model, as an OBJ file is.
-        None if scene.file().is_none_or(is_model_file) => None,
-        None => Some(st.exposure),
-    };
+    let origin = scene.file().map_or(SceneOrigin::Arrays, SceneOrigin::File);
     let how = Develop {
-        exposure: fixed_exposure,
+        exposure: exposure_to_apply(request.exposure, origin, st.exposure),
         tonemap: request.tonemap,
         display: st.display,
     };
-    let aov_layers = AovLayers {
-        albedo: request.aovs.iter().any(|a| a == "albedo"),
-        position: request.aovs.iter().any(|a| a == "position"),
-        uv: request.aovs.iter().any(|a| a == "uv"),
-        // As `lumis render`: the instance ids whenever the scene has instances.
-        instance: s.geometry().has_instances(),
-    };
+    let aov_layers = aov_layers(&request.aovs, s.geometry().has_instances());
     let opts = RenderOptions {
         seed: request.seed,
         threads: worker_threads(request.threads).0,
         transparent: request.transparent,
-        passes: PassRequest {
-            light_paths: request.aovs.iter().any(|a| a == "lightpaths"),
-            lights: request.aovs.iter().any(|a| a == "lights"),
-        },
+        // The channels returned are the EXR's, so its pass layers are filled.
+        passes: pass_request(&request.aovs, true),
         ..RenderOptions::default()
     };
     let kind = request.accel;
@@ -170,13 +144,4 @@ fn plane<T: numpy::Element>(
 ) -> PyResult<Bound<'_, PyArray2<T>>> {
     let a = Array2::from_shape_vec(size, v).map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(PyArray2::from_owned_array(py, a))
-}
-
-/// glTF and OBJ: files whose lights say nothing about a sensible brightness (as `lumis render`).
-fn is_model_file(p: &Path) -> bool {
-    p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
-        ["gltf", "glb", "obj"]
-            .iter()
-            .any(|m| e.eq_ignore_ascii_case(m))
-    })
 }

@@ -8,16 +8,15 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use lumis_core::accel::{AccelKind, BuildOptions};
 use lumis_core::batch::{check_rays, sphere_rows, trace_all_hits, trace_rays, triangle_rows};
-use lumis_core::film::{DisplayTransform, Tonemap};
 use lumis_core::geometry::{Precision, Primitive};
 use lumis_core::scene::{Scene, World};
-use lumis_io::output::ChannelLayout;
+use lumis_io::request::SettingsFlags;
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, PyArray2};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::choices;
 use crate::errors::RayError;
 use crate::hits::{AllHitColumns, HitColumns, blocked};
 use crate::rays::RayArgs;
@@ -81,10 +80,10 @@ impl PyScene {
 
     /// The world key of the `accel` and `precision` arguments.
     fn key(&self, accel: &str, precision: Option<&str>) -> PyResult<WorldKey> {
-        let kind = parse_accel(accel)?;
+        let kind = choices::accel(accel)?;
         let precision = match precision {
             None => self.scene.settings().precision,
-            Some(p) => parse_precision(p)?,
+            Some(p) => choices::precision(p)?,
         };
         Ok((kind, precision))
     }
@@ -160,7 +159,7 @@ impl PyScene {
         d.set_item("spp", st.spp)?;
         d.set_item("max_depth", st.max_depth)?;
         d.set_item("exposure", st.exposure)?;
-        d.set_item("precision", precision_name(st.precision))?;
+        d.set_item("precision", st.precision.name())?;
         Ok(d)
     }
 
@@ -183,7 +182,7 @@ impl PyScene {
     }
 
     /// Nearest hits: a dict of numpy arrays `t, prim_id, obj_id, u, v, normal, kind`.
-    #[pyo3(signature = (origins, directions, t_min, t_max, precision=None, accel="sah", threads=None))]
+    #[pyo3(signature = (origins, directions, t_min, t_max, *, precision=None, accel="sah", threads=None))]
     #[allow(clippy::too_many_arguments)]
     fn intersect<'py>(
         &self,
@@ -204,7 +203,7 @@ impl PyScene {
     }
 
     /// Any-hit queries: a bool array, true where something blocks the ray.
-    #[pyo3(signature = (origins, directions, t_min, t_max, precision=None, accel="sah", threads=None))]
+    #[pyo3(signature = (origins, directions, t_min, t_max, *, precision=None, accel="sah", threads=None))]
     #[allow(clippy::too_many_arguments)]
     fn occluded<'py>(
         &self,
@@ -225,7 +224,7 @@ impl PyScene {
 
     /// All hits along each ray ([`trace_all_hits`], the function of `lumis hits --all`): the
     /// per-hit columns of [`HitColumns`] plus `ray` (int64 ray index) and `graze` (bool).
-    #[pyo3(signature = (origins, directions, t_min, t_max, precision=None, accel="sah", threads=None))]
+    #[pyo3(signature = (origins, directions, t_min, t_max, *, precision=None, accel="sah", threads=None))]
     #[allow(clippy::too_many_arguments)]
     fn intersect_all<'py>(
         &self,
@@ -254,7 +253,7 @@ impl PyScene {
 
     /// Renders the scene (see `lumis.Scene.render` for the arguments): a dict with the EXR's
     /// channels, the exposure applied and whether it was automatic.
-    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, aovs=Vec::new(), seed=0, threads=None, exposure=None, accel="sah", precision=None, transparent=false, float_rgba=false, layout="lumis", tonemap="none", display=None, paths=Vec::new()))]
+    #[pyo3(signature = (*, width=None, height=None, spp=None, max_depth=None, aovs=Vec::new(), seed=0, threads=None, exposure=None, accel="sah", precision=None, transparent=false, float_rgba=false, layout="lumis", tonemap="none", display=None, paths=Vec::new()))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -276,47 +275,31 @@ impl PyScene {
         display: Option<&str>,
         paths: Vec<PathBuf>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        if let Some(bad) = aovs
-            .iter()
-            .find(|a| !["albedo", "position", "uv", "lightpaths", "lights"].contains(&a.as_str()))
-        {
-            return Err(PyValueError::new_err(format!(
-                "aovs: {bad:?} is not a layer; expected \"albedo\", \"position\", \"uv\", \
-                 \"lightpaths\" or \"lights\""
-            )));
-        }
-        let choice = |what: &str, value: &str, names: &[&str]| -> PyResult<usize> {
-            names.iter().position(|n| *n == value).ok_or_else(|| {
-                PyValueError::new_err(format!("{what}={value:?}: expected one of {names:?}"))
-            })
-        };
-        let layout = [ChannelLayout::Lumis, ChannelLayout::Blender]
-            [choice("layout", layout, &["lumis", "blender"])?];
-        let tonemap =
-            [Tonemap::None, Tonemap::Filmic][choice("tonemap", tonemap, &["none", "filmic"])?];
-        let display = match display {
-            None => None,
-            Some(d) => Some(
-                [DisplayTransform::Srgb, DisplayTransform::Clamp]
-                    [choice("display", d, &["srgb", "clamp"])?],
-            ),
-        };
+        // Checked in this order, so the first bad name is the one reported.
+        let aovs = choices::aovs(&aovs)?;
+        let layout = choices::layout(layout)?;
+        let tonemap = choices::tonemap(tonemap)?;
+        let display = choices::display(display)?;
+        let accel = choices::accel(accel)?;
+        let precision = precision.map(choices::precision).transpose()?;
         let request = crate::render::Request {
-            width,
-            height,
-            spp,
-            max_depth,
+            settings: SettingsFlags {
+                width,
+                height,
+                spp,
+                max_depth,
+                precision,
+                display,
+            },
             aovs,
             seed,
             threads,
             exposure,
-            accel: parse_accel(accel)?,
-            precision: precision.map(parse_precision).transpose()?,
+            accel,
             transparent,
             float_rgba,
             layout,
             tonemap,
-            display,
             paths,
         };
         crate::render::render(py, self, &request)
@@ -366,41 +349,4 @@ fn rows_array<const N: usize>(py: Python<'_>, rows: Vec<[f32; N]>) -> Bound<'_, 
     let n = rows.len();
     let flat: Vec<f32> = rows.into_iter().flatten().collect();
     PyArray2::from_owned_array(py, Array2::from_shape_vec((n, N), flat).expect("N per row"))
-}
-
-/// `accel=`: the `--accel` values.
-pub fn parse_accel(s: &str) -> PyResult<AccelKind> {
-    Ok(match s {
-        "sah" => AccelKind::Sah,
-        "brute" => AccelKind::Brute,
-        "bsp" => AccelKind::Bsp,
-        "bsmp" => AccelKind::Bsmp,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "accel={s:?}: expected \"sah\", \"brute\", \"bsp\" or \"bsmp\""
-            )));
-        }
-    })
-}
-
-/// `precision=`: the `--precision` values.
-pub fn parse_precision(s: &str) -> PyResult<Precision> {
-    Ok(match s {
-        "watertight" => Precision::Watertight,
-        "fast" => Precision::Fast,
-        "double" => Precision::Double,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "precision={s:?}: expected \"watertight\", \"fast\" or \"double\""
-            )));
-        }
-    })
-}
-
-fn precision_name(p: Precision) -> &'static str {
-    match p {
-        Precision::Fast => "fast",
-        Precision::Watertight => "watertight",
-        Precision::Double => "double",
-    }
 }

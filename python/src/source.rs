@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use lumis_core::scene::{Scene, UpAxis};
+use lumis_core::scene::Scene;
 use lumis_io::files::InputFile;
 use lumis_io::formats::LoadOptions;
 use numpy::ndarray::{Array1, Array2};
@@ -155,7 +155,7 @@ impl FileSource {
         d.set_item("defines", &self.defines)?;
         d.set_item("gltf_scene", o.scene)?;
         d.set_item("camera", o.camera)?;
-        d.set_item("up", if o.up == UpAxis::Z { "z" } else { "y" })?;
+        d.set_item("up", o.up.name())?;
         d.set_item("auto_camera", o.auto_camera)?;
         d.set_item("frame", o.frame)?;
         d.set_item("flatten_instances", o.flatten_instances)?;

@@ -6,6 +6,7 @@ use clap::{Args, ValueEnum};
 use lumis_core::cryptomatte::{DEFAULT_LEVELS, MAX_LEVELS};
 use lumis_core::render::PassRequest;
 use lumis_io::output::{AovLayers, ChannelLayout};
+use lumis_io::request::{Aov, aov_layers, pass_request};
 
 /// One value of `--aov`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -39,6 +40,18 @@ pub enum LayoutArg {
     /// lumis's Ambient), each light as ViewLayer.Combined_<name>, the shadow catcher's pass
     /// as ViewLayer.Shadow Catcher.
     Blender,
+}
+
+impl From<AovArg> for Aov {
+    fn from(a: AovArg) -> Self {
+        match a {
+            AovArg::Albedo => Aov::Albedo,
+            AovArg::Position => Aov::Position,
+            AovArg::Uv => Aov::Uv,
+            AovArg::Lightpaths => Aov::LightPaths,
+            AovArg::Lights => Aov::Lights,
+        }
+    }
 }
 
 impl From<LayoutArg> for ChannelLayout {
@@ -80,20 +93,16 @@ pub struct PassArgs {
 impl PassArgs {
     /// The optional AOV layers asked for, with `id.instance` when the scene has instances.
     pub fn aov_layers(&self, instances: bool) -> AovLayers {
-        AovLayers {
-            albedo: self.aov.contains(&AovArg::Albedo),
-            position: self.aov.contains(&AovArg::Position),
-            uv: self.aov.contains(&AovArg::Uv),
-            instance: instances,
-        }
+        aov_layers(&self.aovs(), instances)
     }
 
     /// The RGB passes to fill (none unless an EXR is written).
     pub fn pass_request(&self, writes_exr: bool) -> PassRequest {
-        PassRequest {
-            light_paths: writes_exr && self.aov.contains(&AovArg::Lightpaths),
-            lights: writes_exr && self.aov.contains(&AovArg::Lights),
-        }
+        pass_request(&self.aovs(), writes_exr)
+    }
+
+    fn aovs(&self) -> Vec<Aov> {
+        self.aov.iter().map(|&a| a.into()).collect()
     }
 
     /// The Cryptomatte ranks per pixel, or `None` without `--cryptomatte`.
@@ -118,5 +127,42 @@ impl PassArgs {
     /// Whether misses are transparent.
     pub fn transparent(&self) -> bool {
         self.transparent
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The flag's spelling of each value.
+    fn names<T: ValueEnum>() -> Vec<String> {
+        T::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value())
+            .map(|p| p.get_name().to_owned())
+            .collect()
+    }
+
+    #[test]
+    fn the_values_are_the_library_names() {
+        let aovs: Vec<&str> = AovArg::value_variants()
+            .iter()
+            .map(|&a| Aov::from(a).name())
+            .collect();
+        assert_eq!(names::<AovArg>(), aovs);
+        assert_eq!(
+            AovArg::value_variants()
+                .iter()
+                .map(|&a| Aov::from(a))
+                .collect::<Vec<_>>(),
+            Aov::ALL
+        );
+        let layouts: Vec<ChannelLayout> = LayoutArg::value_variants()
+            .iter()
+            .map(|&l| l.into())
+            .collect();
+        assert_eq!(layouts, ChannelLayout::ALL);
+        let names_of_layouts: Vec<&str> = layouts.iter().map(|l| l.name()).collect();
+        assert_eq!(names::<LayoutArg>(), names_of_layouts);
     }
 }

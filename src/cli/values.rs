@@ -163,6 +163,10 @@ mod tests {
         assert_eq!(kinds, AccelKind::ALL);
         for kind in AccelKind::ALL {
             assert_eq!(AccelKind::from(accel_arg(kind)), kind);
+            assert_eq!(
+                accel_arg(kind).to_possible_value().unwrap().get_name(),
+                kind.name()
+            );
         }
     }
 
@@ -178,9 +182,10 @@ mod tests {
             .collect();
         assert_eq!(names::<PrecisionArg>(), precisions);
         assert_eq!(names::<OffsetArg>(), ["error-bound", "ulp", "epsilon"]);
-        assert_eq!(names::<UpArg>(), ["y", "z"]);
         let up: Vec<UpAxis> = UpArg::value_variants().iter().map(|&u| u.into()).collect();
-        assert_eq!(up, [UpAxis::Y, UpAxis::Z]);
+        assert_eq!(up, UpAxis::ALL);
+        let up_names: Vec<&str> = up.iter().map(|u| u.name()).collect();
+        assert_eq!(names::<UpArg>(), up_names);
         let displays: Vec<String> = DisplayArg::value_variants()
             .iter()
             .map(|&d| DisplayTransform::from(d).name().to_owned())

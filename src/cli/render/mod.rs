@@ -13,7 +13,7 @@ use super::passes::PassArgs;
 use super::stats::{PhaseTimes, summary, summary_json};
 use super::values::{DisplayArg, UpArg};
 use super::window::WindowArgs;
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use lumis_core::film::DisplayTransform;
 use lumis_core::render::{CancelFlag, RenderOptions, render};
@@ -23,6 +23,7 @@ use lumis_io::output::{
     Develop, ExrCamera, ExrMetadata, PlannedOutput, StagedOutputs, TileHeader, develop,
     prepare_outputs,
 };
+use lumis_io::request::{SceneOrigin, SettingsFlags, check_exposure, exposure_to_apply};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -178,30 +179,33 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
     }
     let st = scene.settings_mut();
-    st.width = args.width.unwrap_or(st.width);
-    st.height = args.height.unwrap_or(st.height);
-    st.spp = args.spp.unwrap_or(st.spp);
-    st.max_depth = args.max_depth.unwrap_or(st.max_depth);
-    st.display = args.display.map_or(st.display, DisplayTransform::from);
+    SettingsFlags {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        max_depth: args.max_depth,
+        // `--precision` is set with `--offset` and `--epsilon`, as `lumis hits` sets them.
+        precision: None,
+        display: args.display.map(DisplayTransform::from),
+    }
+    .apply(st);
     args.accuracy.apply(st)?;
     args.cutoff.apply(st)?;
     args.overrides.apply(st, args.quiet)?;
     // The same limits as every scene file's, checked before any work starts.
     st.validate()
         .context("the render settings after the command-line overrides")?;
-    if let Some(ev) = args.exposure
-        && (ev.is_nan() || ev.abs() > lumis_core::scene::limits::MAX_EXPOSURE)
-    {
-        bail!("--exposure {ev}: expected a finite number of stops within +-64");
+    if let Some(ev) = args.exposure {
+        check_exposure(ev).map_err(|m| anyhow!("--exposure {ev}: {m}"))?;
     }
     let choice = args.accel.validated()?;
     let window = args.window.window(st.width, st.height)?;
     // The exposure to apply, decided before the render; `None`: automatic, from the film.
-    let fixed_exposure = match args.exposure {
-        Some(ev) => Some(ev),
-        None if args.scene.as_deref().is_some_and(is_model_file) => None,
-        None => Some(st.exposure),
-    };
+    let origin = args
+        .scene
+        .as_deref()
+        .map_or(SceneOrigin::BuiltIn, SceneOrigin::File);
+    let fixed_exposure = exposure_to_apply(args.exposure, origin, st.exposure);
     let identity = args.identity(&inputs, st, fixed_exposure)?;
     let tile_output = args
         .window
@@ -387,11 +391,6 @@ fn output_paths<'a>(
         });
     }
     Ok(paths)
-}
-
-/// glTF and OBJ: files whose lights say nothing about a sensible brightness.
-fn is_model_file(p: &Path) -> bool {
-    ["gltf", "glb", "obj"].iter().any(|e| has_extension(p, e))
 }
 
 fn has_extension(p: &Path, ext: &str) -> bool {

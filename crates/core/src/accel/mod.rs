@@ -74,6 +74,33 @@ impl AccelKind {
             AccelKind::Sah => 4,
         }
     }
+
+    /// The name used on the command line (`--accel`) and in Python (`accel=`).
+    pub fn name(self) -> &'static str {
+        match self {
+            AccelKind::Brute => "brute",
+            AccelKind::Bsp => "bsp",
+            AccelKind::Bsmp => "bsmp",
+            AccelKind::Sah => "sah",
+        }
+    }
+}
+
+impl std::str::FromStr for AccelKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        AccelKind::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| format!("unknown accel {s:?}; expected brute, bsp, bsmp or sah"))
+    }
+}
+
+impl std::fmt::Display for AccelKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// How a hierarchy is walked.

@@ -23,6 +23,17 @@ pub enum UpAxis {
 }
 
 impl UpAxis {
+    /// Both axes, in documentation order.
+    pub const ALL: [UpAxis; 2] = [UpAxis::Y, UpAxis::Z];
+
+    /// The name used on the command line (`--up`) and in Python (`up=`).
+    pub fn name(self) -> &'static str {
+        match self {
+            UpAxis::Y => "y",
+            UpAxis::Z => "z",
+        }
+    }
+
     /// Model space to lumis's Y-up world.
     pub fn to_y_up(self) -> Mat4 {
         match self {
@@ -35,6 +46,17 @@ impl UpAxis {
                 glam::Vec4::W,
             ),
         }
+    }
+}
+
+impl std::str::FromStr for UpAxis {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        UpAxis::ALL
+            .into_iter()
+            .find(|a| a.name() == s)
+            .ok_or_else(|| format!("unknown up axis {s:?}; expected y or z"))
     }
 }
 

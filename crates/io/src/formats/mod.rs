@@ -145,6 +145,13 @@ fn load_by_extension(path: &Path, options: &LoadOptions) -> Result<Scene, SceneE
     }
 }
 
+/// Whether `path` names a bare model (glTF or OBJ, by extension, in any case): a file whose
+/// lights say nothing about a sensible brightness, so a render exposes it automatically
+/// unless told otherwise ([`crate::request::exposure_to_apply`]).
+pub fn is_model_file(path: &Path) -> bool {
+    matches!(extension(path).as_deref(), Some("gltf" | "glb" | "obj"))
+}
+
 /// The file extension, lower case.
 fn extension(path: &Path) -> Option<String> {
     path.extension()

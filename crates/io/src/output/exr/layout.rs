@@ -45,6 +45,14 @@ impl ChannelLayout {
     /// Every layout, for a reader to tell which one a file has.
     pub const ALL: [ChannelLayout; 2] = [Self::Lumis, Self::Blender];
 
+    /// The name used on the command line (`--layout`) and in Python (`layout=`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Lumis => "lumis",
+            Self::Blender => "blender",
+        }
+    }
+
     /// The names of the R, G, B, A channels in this layout: what tells the layouts apart in
     /// a file, and what a farm tile records in `lumis/tileBeauty`.
     pub fn beauty(self) -> [String; 4] {
@@ -103,6 +111,17 @@ impl ChannelLayout {
             Self::Blender => recorded.strip_prefix(VIEW_LAYER)?.strip_prefix('.')?,
         };
         (self.crypto_type(name) == recorded).then_some(name)
+    }
+}
+
+impl std::str::FromStr for ChannelLayout {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|l| l.name() == s)
+            .ok_or_else(|| format!("unknown layout {s:?}; expected lumis or blender"))
     }
 }
 
