@@ -74,7 +74,7 @@ def queries(scene: lumis.Scene, box: int) -> None:
     assert counts.tolist() == [2, 2, 2, 2] and not every.graze.any()
     blocked: npt.NDArray[np.bool_] = scene.occluded(origins, directions, t_max=0.5)
     assert not blocked.any()
-    inside: npt.NDArray[np.bool_] = scene.contains([[0.5, 0.5, 0.5], [0.5, 0.5, 1.0], [2, 2, 2]])
+    inside: npt.NDArray[np.bool_] = scene.contains([[0.5, 0.5, 0.5], [0.5, 0.5, 1.0], [2.0, 2.0, 2.0]])
     assert inside.tolist() == [True, True, False]  # a point on the surface is inside
     assert scene.containment_methods == ["exact", "exact", "exact"]
     alone = lumis.Scene.from_arrays(CORNERS, FACES)
