@@ -36,7 +36,7 @@ use crate::accel::{Hit, PACKET, Traced, TraversalStats};
 use crate::geometry::Primitive;
 use crate::math::{Ray, Vec3};
 use crate::scene::domain::{RayError, check_ray};
-use crate::scene::{Scene, World};
+use crate::scene::{AllHitsBuffers, Scene, World};
 
 /// Floats per ray row: origin xyz, direction xyz, `t_min`, `t_max`.
 pub const RAY_COLUMNS: usize = 8;
@@ -122,9 +122,12 @@ pub fn trace_all_hits<B: RayBatch + ?Sized>(world: &World, rays: &B) -> Vec<AllH
         .into_par_iter()
         .map(|c| {
             let mut stats = TraversalStats::default();
+            let mut buffers = AllHitsBuffers::default();
+            let mut hits = Vec::new();
             let mut records = Vec::new();
             for i in c * CHUNK..n.min((c + 1) * CHUNK) {
-                let hits = world.all_hits(&rays.ray(i), &mut stats);
+                hits.clear();
+                world.all_hits_into(&rays.ray(i), &mut stats, &mut buffers, &mut hits);
                 records.extend(hits.iter().map(|h| AllHitRecord {
                     ray: i,
                     hit: HitRecord {

@@ -2,7 +2,7 @@
 //! once (the rule is stated in [`crate::accel::AllHits`]'s module and in docs/hard-cases.md).
 
 use super::World;
-use crate::accel::TraversalStats;
+use crate::accel::{AllHit, AllHitsScratch, TraversalStats};
 use crate::geometry::Primitive;
 use crate::math::{Ray, Vec3};
 
@@ -37,30 +37,48 @@ impl World {
     /// sorted by `t` (ties by primitive index); with the scene's `precision`, except that
     /// `fast` uses the watertight tests ([`crate::accel::Accel::all_hits_geometry`]).
     pub fn all_hits(&self, ray: &Ray, stats: &mut TraversalStats) -> Vec<SurfaceHit> {
+        let mut out = Vec::new();
+        self.all_hits_into(ray, stats, &mut AllHitsBuffers::default(), &mut out);
+        out
+    }
+
+    /// [`World::all_hits`] appended to `out`, with the buffers of `buffers` (kept from ray to
+    /// ray by a batch, so a ray allocates nothing once they have grown).
+    pub fn all_hits_into(
+        &self,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        buffers: &mut AllHitsBuffers,
+        out: &mut Vec<SurfaceHit>,
+    ) {
         let scene = self.scene();
         let g = scene.geometry();
-        let found = self
-            .accel()
-            .all_hits_geometry(g, scene.settings().precision, ray, stats);
-        let Some(traced) = found.ray else {
-            return Vec::new();
+        let AllHitsBuffers { scratch, hits } = buffers;
+        let Some(traced) =
+            self.accel()
+                .all_hits_into(g, scene.settings().precision, ray, stats, scratch, hits)
+        else {
+            return;
         };
-        found
-            .hits
-            .iter()
-            .map(|h| SurfaceHit {
-                t: h.t,
-                prim: h.prim,
-                object: scene.object_at(h.prim, h.hit.inner),
-                instance: g.instance_of(h.prim),
-                inner: h.hit.inner,
-                u: h.hit.u,
-                v: h.hit.v,
-                // On the ray the hit was found on: the caller's, traced as given.
-                normal: g.geometric_normal(h.prim, &traced, &h.hit),
-                primitive: g.leaf_primitive(h.prim, h.hit.inner),
-                graze: h.graze,
-            })
-            .collect()
+        out.extend(hits.iter().map(|h| SurfaceHit {
+            t: h.t,
+            prim: h.prim,
+            object: scene.object_at(h.prim, h.hit.inner),
+            instance: g.instance_of(h.prim),
+            inner: h.hit.inner,
+            u: h.hit.u,
+            v: h.hit.v,
+            // On the ray the hit was found on: the caller's, traced as given.
+            normal: g.geometric_normal(h.prim, &traced, &h.hit),
+            primitive: g.leaf_primitive(h.prim, h.hit.inner),
+            graze: h.graze,
+        }))
     }
+}
+
+/// What [`World::all_hits_into`] reuses from one ray to the next.
+#[derive(Clone, Debug, Default)]
+pub struct AllHitsBuffers {
+    scratch: AllHitsScratch,
+    hits: Vec<AllHit>,
 }

@@ -29,15 +29,20 @@ fn a_seam_gives_one_hit_crossing_on_an_odd_claim_count_else_graze() {
     let b = |seam, claims| Touch::Boundary { seam, claims };
     // The edge: prim 7 claims; prim 3 reports the smaller t, which the hit takes.
     // The vertex: two claims, a graze from the first member (t, index).
-    let hits = resolve(vec![
-        contact(3, 1.0, b(edge, false)),
-        contact(5, 2.0, b(vertex, true)),
-        contact(7, 1.0000001, b(edge, true)),
-        contact(8, 2.0, b(vertex, true)),
-        contact(9, 3.0, Touch::Crossing),
-        contact(4, 2.0, b(vertex, false)),
-    ]);
-    let got: Vec<(u32, f32, bool)> = hits.iter().map(|(c, g)| (c.prim, c.hit.t, *g)).collect();
+    let mut hits = Vec::new();
+    resolve(
+        &[
+            contact(3, 1.0, b(edge, false)),
+            contact(5, 2.0, b(vertex, true)),
+            contact(7, 1.0000001, b(edge, true)),
+            contact(8, 2.0, b(vertex, true)),
+            contact(9, 3.0, Touch::Crossing),
+            contact(4, 2.0, b(vertex, false)),
+        ],
+        &mut Vec::new(),
+        &mut hits,
+    );
+    let got: Vec<(u32, f32, bool)> = hits.iter().map(|h| (h.prim, h.t, h.graze)).collect();
     // Seams come out in seam order (edges before vertices); the caller sorts by t.
     assert_eq!(got, [(9, 3.0, false), (7, 1.0, false), (4, 2.0, true)]);
 }
