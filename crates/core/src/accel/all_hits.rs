@@ -30,7 +30,7 @@
 //! [`super::RayFrame`]). All accelerators and traversals give brute force's answer bit for bit.
 
 use super::Framing;
-use super::{Accel, PackedContacts, TraversalStats};
+use super::{Accel, NO_SLOT, PackedContacts, TraversalStats};
 use crate::geometry::{Contact, Geometry, Precision, PrimHit, Seam, Touch, WatertightRay};
 use crate::math::Ray;
 
@@ -45,6 +45,10 @@ pub struct AllHit {
     pub t: f32,
     /// A touch that does not cross the surface (see the module docs).
     pub graze: bool,
+    /// Where the hit triangle lies in the packed leaves, when it was found there
+    /// ([`Accel::packed_corners`] reads its corners, as for [`super::Traced::slot`]); `None`
+    /// otherwise. Which accelerator found the hit decides it, nothing else does.
+    pub slot: Option<u32>,
 }
 
 /// The answer of an all-hits query.
@@ -63,7 +67,9 @@ pub struct AllHits {
 pub struct AllHitsScratch {
     prims: Vec<u32>,
     contacts: Vec<Contact>,
-    seams: Vec<(Seam, bool, Contact)>,
+    /// The packed-leaf slot of each contact ([`AllHit::slot`], [`NO_SLOT`] for none).
+    slots: Vec<u32>,
+    seams: Vec<(Seam, bool, Contact, u32)>,
 }
 
 impl Accel {
@@ -111,15 +117,16 @@ impl Accel {
         if matches!(self.frame.frame(ray), Framing::Miss) {
             return None;
         }
-        let contacts = &mut scratch.contacts;
+        let (contacts, slots) = (&mut scratch.contacts, &mut scratch.slots);
         contacts.clear();
+        slots.clear();
         match self.packed() {
             // The packed leaves hold each primitive once and test the watertight way.
             Some((wide, packed)) if precision != Precision::Double => {
                 wide.occluded(
                     ray,
                     stats,
-                    PackedContacts::new(packed, geometry, precision, contacts),
+                    PackedContacts::new(packed, geometry, precision, contacts, slots),
                 );
             }
             _ => {
@@ -137,9 +144,10 @@ impl Accel {
                 for &p in prims.iter() {
                     geometry.contacts(p, ray, &wr, precision, contacts);
                 }
+                slots.resize(contacts.len(), NO_SLOT);
             }
         }
-        resolve(contacts, &mut scratch.seams, hits);
+        resolve(contacts, slots, &mut scratch.seams, hits);
         // Stable: a sphere's two roots rounded to one `t` keep their order. The contacts of
         // one primitive are consecutive and in its own order whatever the walk's order, and
         // only those can tie on `(t, prim)`: the list does not depend on the walk.
@@ -148,27 +156,33 @@ impl Accel {
     }
 }
 
-/// Pushes onto `out` the hits of `contacts`: crossings and grazes as they are, and one hit per
-/// seam (see the module docs), with its graze flag; crossings and grazes first, then the seams
-/// in seam order. `seams` is scratch space. A distance beyond `f32::MAX` is no `f32` distance:
-/// no hit, as for the other queries.
-fn resolve(contacts: &[Contact], seams: &mut Vec<(Seam, bool, Contact)>, out: &mut Vec<AllHit>) {
-    let mut push = |c: Contact, graze: bool| {
+/// Pushes onto `out` the hits of `contacts` (found at `slots`): crossings and grazes as they
+/// are, and one hit per seam (see the module docs), with its graze flag; crossings and grazes
+/// first, then the seams in seam order. `seams` is scratch space. A distance beyond
+/// `f32::MAX` is no `f32` distance: no hit, as for the other queries.
+fn resolve(
+    contacts: &[Contact],
+    slots: &[u32],
+    seams: &mut Vec<(Seam, bool, Contact, u32)>,
+    out: &mut Vec<AllHit>,
+) {
+    let mut push = |c: Contact, slot: u32, graze: bool| {
         if c.hit.t.is_finite() {
             out.push(AllHit {
                 prim: c.prim,
                 hit: c.hit,
                 t: c.hit.t,
                 graze,
+                slot: (slot != NO_SLOT).then_some(slot),
             });
         }
     };
     seams.clear();
-    for &c in contacts {
+    for (&c, &slot) in contacts.iter().zip(slots) {
         match c.touch {
-            Touch::Crossing => push(c, false),
-            Touch::Graze => push(c, true),
-            Touch::Boundary { seam, claims } => seams.push((seam, claims, c)),
+            Touch::Crossing => push(c, slot, false),
+            Touch::Graze => push(c, slot, true),
+            Touch::Boundary { seam, claims } => seams.push((seam, claims, c, slot)),
         }
     }
     if seams.is_empty() {
@@ -181,13 +195,13 @@ fn resolve(contacts: &[Contact], seams: &mut Vec<(Seam, bool, Contact)>, out: &m
         let crossing = claimers % 2 == 1;
         // Sorted by (t, index): the first member has the group's t.
         let t = group[0].2.hit.t;
-        let (_, _, mut rep) = if crossing {
+        let (_, _, mut rep, slot) = if crossing {
             *group.iter().find(|m| m.1).unwrap_or(&group[0])
         } else {
             group[0]
         };
         rep.hit.t = t;
-        push(rep, !crossing);
+        push(rep, slot, !crossing);
     }
 }
 

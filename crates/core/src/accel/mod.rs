@@ -42,7 +42,7 @@ use std::sync::Arc;
 use crate::geometry::{Geometry, PrimHit, Primitive};
 use crate::math::{Aabb, Ray};
 pub use packed::PackedLeaves;
-pub(crate) use packed::{PackedContacts, PackedWatertight};
+pub(crate) use packed::{NO_SLOT, PackedContacts, PackedWatertight};
 
 /// Which acceleration structure to build.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

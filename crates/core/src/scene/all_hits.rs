@@ -3,7 +3,7 @@
 
 use super::World;
 use crate::accel::{AllHit, AllHitsScratch, TraversalStats};
-use crate::geometry::Primitive;
+use crate::geometry::{Primitive, unit_face_normal};
 use crate::math::{Ray, Vec3};
 
 /// One hit of [`World::all_hits`]: the nearest-hit record's fields and a graze flag.
@@ -60,18 +60,28 @@ impl World {
         else {
             return;
         };
-        out.extend(hits.iter().map(|h| SurfaceHit {
-            t: h.t,
-            prim: h.prim,
-            object: scene.object_at(h.prim, h.hit.inner),
-            instance: g.instance_of(h.prim),
-            inner: h.hit.inner,
-            u: h.hit.u,
-            v: h.hit.v,
-            // On the ray the hit was found on: the caller's, traced as given.
-            normal: g.geometric_normal(h.prim, &traced, &h.hit),
-            primitive: g.leaf_primitive(h.prim, h.hit.inner),
-            graze: h.graze,
+        out.extend(hits.iter().map(|h| {
+            SurfaceHit {
+                t: h.t,
+                prim: h.prim,
+                object: scene.object_at(h.prim, h.hit.inner),
+                instance: g.instance_of(h.prim),
+                inner: h.hit.inner,
+                u: h.hit.u,
+                v: h.hit.v,
+                // From the packed leaves' copy of the triangle when the hit was found there (the
+                // same bits, without the dependent reads of the index buffer and the vertices),
+                // else on the ray the hit was found on: the caller's, traced as given.
+                normal: h
+                    .slot
+                    .and_then(|slot| self.accel().packed_corners(slot))
+                    .map_or_else(
+                        || g.geometric_normal(h.prim, &traced, &h.hit),
+                        unit_face_normal,
+                    ),
+                primitive: g.leaf_primitive(h.prim, h.hit.inner),
+                graze: h.graze,
+            }
         }))
     }
 }

@@ -1,6 +1,6 @@
 use super::*;
 use crate::accel::{AccelKind, BuildOptions, SegmentParams, Traversal};
-use crate::geometry::{Mesh, Sphere};
+use crate::geometry::{Mesh, Primitive, Sphere};
 use crate::math::Vec3;
 
 fn contact(prim: u32, t: f32, touch: Touch) -> Contact {
@@ -39,6 +39,7 @@ fn a_seam_gives_one_hit_crossing_on_an_odd_claim_count_else_graze() {
             contact(9, 3.0, Touch::Crossing),
             contact(4, 2.0, b(vertex, false)),
         ],
+        &[NO_SLOT; 6],
         &mut Vec::new(),
         &mut hits,
     );
@@ -111,7 +112,18 @@ fn every_accelerator_and_traversal_returns_brute_forces_hits() {
                 for r in &rays {
                     let s = &mut TraversalStats::default();
                     let want = brute.all_hits_geometry(&g, Precision::Watertight, r, s);
-                    let got = a.all_hits_geometry(&g, Precision::Watertight, r, s);
+                    let mut got = a.all_hits_geometry(&g, Precision::Watertight, r, s);
+                    // Only the packed leaves give slots; a slot holds the hit's triangle.
+                    for h in &mut got.hits {
+                        if let Some(slot) = h.slot.take() {
+                            let Primitive::Triangle { mesh, tri } = g.prims()[h.prim as usize]
+                            else {
+                                panic!("a slot for a primitive that is no triangle");
+                            };
+                            let corners = a.packed_corners(slot);
+                            assert_eq!(corners, Some(g.meshes()[mesh as usize].corners(tri)));
+                        }
+                    }
                     assert_eq!(format!("{got:?}"), format!("{want:?}"), "{kind:?} {r:?}");
                     found += want.hits.len();
                 }

@@ -8,7 +8,7 @@
 //! lane goes through the scalar triangle test and [`triangle_contact`], or through the
 //! geometry's own contacts when it holds no triangle, exactly as the per-primitive path.
 
-use super::{LANES, PackedLeaves, PackedWatertight, group_corners};
+use super::{LANES, NO_SLOT, PackedLeaves, PackedWatertight, group_corners};
 use crate::accel::leaves::{AnyLeaves, Prefetch};
 use crate::accel::{PADDING, TraversalStats};
 use crate::geometry::crossing::triangle_contact;
@@ -23,6 +23,9 @@ pub(crate) struct PackedContacts<'a, 'o> {
     /// test is the watertight one for every precision but `Double`, which does not come here).
     precision: Precision,
     out: &'o mut Vec<Contact>,
+    /// The slot of each contact in the leaf order ([`NO_SLOT`] for one that is not a
+    /// triangle's): a contact's normal is then read from there, as the nearest hit's.
+    slots: &'o mut Vec<u32>,
 }
 
 impl<'a, 'o> PackedContacts<'a, 'o> {
@@ -33,12 +36,14 @@ impl<'a, 'o> PackedContacts<'a, 'o> {
         geometry: &'a Geometry,
         precision: Precision,
         out: &'o mut Vec<Contact>,
+        slots: &'o mut Vec<u32>,
     ) -> Self {
         debug_assert!(precision != Precision::Double);
         Self {
             test: PackedWatertight::new(packed, geometry),
             precision,
             out,
+            slots,
         }
     }
 
@@ -65,10 +70,12 @@ impl<'a, 'o> PackedContacts<'a, 'o> {
                     // Not a triangle: a sphere or an instance, through its own contacts.
                     if prim != PADDING {
                         geometry.contacts(prim, ray, wr, self.precision, self.out);
+                        self.slots.resize(self.out.len(), NO_SLOT);
                     }
                     continue;
                 }
                 let p = group_corners(&group.v, lane);
+                let slot = (g * LANES + lane) as u32;
                 if decided.line_hits & (1 << lane) != 0 {
                     match finish_decided_hit(ray, p, decided.u[lane], decided.v[lane]) {
                         Ok(None) => continue,
@@ -79,6 +86,7 @@ impl<'a, 'o> PackedContacts<'a, 'o> {
                                     hit: h.into(),
                                     touch: Touch::Crossing,
                                 });
+                                self.slots.push(slot);
                             }
                             continue;
                         }
@@ -93,8 +101,10 @@ impl<'a, 'o> PackedContacts<'a, 'o> {
                     continue;
                 }
                 if let Primitive::Triangle { mesh, .. } = geometry.prims()[prim as usize] {
-                    self.out
-                        .extend(triangle_contact(prim, h.into(), ray, wr, p, mesh));
+                    if let Some(c) = triangle_contact(prim, h.into(), ray, wr, p, mesh) {
+                        self.out.push(c);
+                        self.slots.push(slot);
+                    }
                 }
             }
             left -= lanes;

@@ -116,7 +116,7 @@ pub(crate) struct PackedWatertight<'a> {
 }
 
 /// [`PackedWatertight::best_slot`] of a query without a hit.
-const NO_SLOT: u32 = u32::MAX;
+pub(crate) const NO_SLOT: u32 = u32::MAX;
 
 impl<'a> PackedWatertight<'a> {
     /// The test over `packed`, built from `geometry` (which holds the spheres).
