@@ -30,6 +30,7 @@
 //! [`super::RayFrame`]). All accelerators and traversals give brute force's answer bit for bit.
 
 use super::Framing;
+use super::wide::LevelQueue;
 use super::{Accel, NO_SLOT, PackedContacts, TraversalStats};
 use crate::geometry::{Contact, Geometry, Precision, PrimHit, Seam, Touch, WatertightRay};
 use crate::math::Ray;
@@ -70,6 +71,7 @@ pub struct AllHitsScratch {
     /// The packed-leaf slot of each contact ([`AllHit::slot`], [`NO_SLOT`] for none).
     slots: Vec<u32>,
     seams: Vec<(Seam, bool, Contact, u32)>,
+    queue: LevelQueue,
 }
 
 impl Accel {
@@ -123,11 +125,8 @@ impl Accel {
         match self.packed() {
             // The packed leaves hold each primitive once and test the watertight way.
             Some((wide, packed)) if precision != Precision::Double => {
-                wide.occluded(
-                    ray,
-                    stats,
-                    PackedContacts::new(packed, geometry, precision, contacts, slots),
-                );
+                let mut test = PackedContacts::new(packed, geometry, precision, contacts, slots);
+                wide.each_leaf(ray, stats, &mut test, &mut scratch.queue);
             }
             _ => {
                 // Every primitive of every leaf the interval enters, in whatever order the
