@@ -37,31 +37,14 @@ impl World {
     /// sorted by `t` (ties by primitive index); with the scene's `precision`, except that
     /// `fast` uses the watertight tests ([`crate::accel::Accel::all_hits_geometry`]).
     pub fn all_hits(&self, ray: &Ray, stats: &mut TraversalStats) -> Vec<SurfaceHit> {
-        let mut out = Vec::new();
-        self.all_hits_into(ray, stats, &mut AllHitsBuffers::default(), &mut out);
-        out
-    }
-
-    /// [`World::all_hits`] appended to `out`, with the buffers of `buffers` (kept from ray to
-    /// ray by a batch, so a ray allocates nothing once they have grown).
-    pub fn all_hits_into(
-        &self,
-        ray: &Ray,
-        stats: &mut TraversalStats,
-        buffers: &mut AllHitsBuffers,
-        out: &mut Vec<SurfaceHit>,
-    ) {
         let scene = self.scene();
         let g = scene.geometry();
-        let AllHitsBuffers { scratch, hits } = buffers;
-        let Some(traced) =
-            self.accel()
-                .all_hits_into(g, scene.settings().precision, ray, stats, scratch, hits)
-        else {
-            return;
+        let mut buffers = AllHitsBuffers::default();
+        let Some((traced, hits)) = self.all_hits_found(ray, stats, &mut buffers) else {
+            return Vec::new();
         };
-        out.extend(hits.iter().map(|h| {
-            SurfaceHit {
+        hits.iter()
+            .map(|h| SurfaceHit {
                 t: h.t,
                 prim: h.prim,
                 object: scene.object_at(h.prim, h.hit.inner),
@@ -69,24 +52,53 @@ impl World {
                 inner: h.hit.inner,
                 u: h.hit.u,
                 v: h.hit.v,
-                // From the packed leaves' copy of the triangle when the hit was found there (the
-                // same bits, without the dependent reads of the index buffer and the vertices),
-                // else on the ray the hit was found on: the caller's, traced as given.
-                normal: h
-                    .slot
-                    .and_then(|slot| self.accel().packed_corners(slot))
-                    .map_or_else(
-                        || g.geometric_normal(h.prim, &traced, &h.hit),
-                        unit_face_normal,
-                    ),
+                normal: self.all_hit_normal(&traced, h),
                 primitive: g.leaf_primitive(h.prim, h.hit.inner),
                 graze: h.graze,
-            }
-        }))
+            })
+            .collect()
+    }
+
+    /// The hits of [`World::all_hits`] as the accelerator finds them, on the ray it returns
+    /// (`None`: the ray misses the scene), in buffers kept by the caller from ray to ray: for
+    /// batches, which turn them into records without a [`SurfaceHit`]'s look-ups.
+    pub fn all_hits_found<'b>(
+        &self,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        buffers: &'b mut AllHitsBuffers,
+    ) -> Option<(Ray, &'b [AllHit])> {
+        let scene = self.scene();
+        let AllHitsBuffers { scratch, hits } = buffers;
+        let traced = self.accel().all_hits_into(
+            scene.geometry(),
+            scene.settings().precision,
+            ray,
+            stats,
+            scratch,
+            hits,
+        )?;
+        Some((traced, hits))
+    }
+
+    /// The unit geometric normal of an all-hits hit found on `traced`: from the packed leaves'
+    /// copy of the triangle when the hit was found there (the same bits, without the dependent
+    /// reads of the primitive list, the index buffer and the vertices), else computed on
+    /// `traced`, the caller's ray as given.
+    pub fn all_hit_normal(&self, traced: &Ray, h: &AllHit) -> Vec3 {
+        h.slot
+            .and_then(|slot| self.accel().packed_corners(slot))
+            .map_or_else(
+                || {
+                    let g = self.scene().geometry();
+                    g.geometric_normal(h.prim, traced, &h.hit)
+                },
+                unit_face_normal,
+            )
     }
 }
 
-/// What [`World::all_hits_into`] reuses from one ray to the next.
+/// What [`World::all_hits_found`] reuses from one ray to the next.
 #[derive(Clone, Debug, Default)]
 pub struct AllHitsBuffers {
     scratch: AllHitsScratch,

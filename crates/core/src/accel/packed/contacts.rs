@@ -100,11 +100,11 @@ impl<'a, 'o> PackedContacts<'a, 'o> {
                 if !geometry.alpha_passes(prim, h.u, h.v) {
                     continue;
                 }
-                if let Primitive::Triangle { mesh, .. } = geometry.prims()[prim as usize] {
-                    if let Some(c) = triangle_contact(prim, h.into(), ray, wr, p, mesh) {
-                        self.out.push(c);
-                        self.slots.push(slot);
-                    }
+                if let Primitive::Triangle { mesh, .. } = geometry.prims()[prim as usize]
+                    && let Some(c) = triangle_contact(prim, h.into(), ray, wr, p, mesh)
+                {
+                    self.out.push(c);
+                    self.slots.push(slot);
                 }
             }
             left -= lanes;
