@@ -73,14 +73,39 @@ pub struct AllHitColumns {
 }
 
 impl AllHitColumns {
-    /// Splits `records` into columns.
-    pub fn new(records: &[AllHitRecord]) -> Self {
-        let hits: Vec<HitRecord> = records.iter().map(|r| r.hit).collect();
-        Self {
-            ray: records.iter().map(|r| r.ray as i64).collect(),
-            hits: HitColumns::new(&hits),
-            graze: records.iter().map(|r| r.graze).collect(),
+    /// Splits the records of `parts` (in order, as [`lumis_core::batch::trace_all_hits_parts`]
+    /// gives them) into columns, in one pass: each column is allocated once at its final size.
+    pub fn new(parts: &[Vec<AllHitRecord>]) -> Self {
+        let n = parts.iter().map(Vec::len).sum();
+        let mut c = Self {
+            ray: Vec::with_capacity(n),
+            hits: HitColumns {
+                t: Vec::with_capacity(n),
+                prim_id: Vec::with_capacity(n),
+                obj_id: Vec::with_capacity(n),
+                u: Vec::with_capacity(n),
+                v: Vec::with_capacity(n),
+                normal: Vec::with_capacity(3 * n),
+                kind: Vec::with_capacity(n),
+                inst_id: Vec::with_capacity(n),
+            },
+            graze: Vec::with_capacity(n),
+        };
+        let id = |i: Option<u32>| i.map_or(-1, i64::from);
+        for r in parts.iter().flatten() {
+            let (h, cols) = (&r.hit, &mut c.hits);
+            c.ray.push(r.ray as i64);
+            cols.t.push(h.t);
+            cols.prim_id.push(id(h.prim));
+            cols.obj_id.push(id(h.object));
+            cols.u.push(h.u);
+            cols.v.push(h.v);
+            cols.normal.extend(h.normal.to_array());
+            cols.kind.push(h.kind.map_or(-1, |k| k as i8));
+            cols.inst_id.push(id(h.instance));
+            c.graze.push(r.graze);
         }
+        c
     }
 
     /// The columns as a dict of numpy arrays.

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock};
 
 use lumis_core::accel::{AccelKind, BuildOptions};
-use lumis_core::batch::{check_rays, sphere_rows, trace_all_hits, trace_rays, triangle_rows};
+use lumis_core::batch::{check_rays, sphere_rows, trace_all_hits_parts, trace_rays, triangle_rows};
 use lumis_core::geometry::{Precision, Primitive};
 use lumis_core::scene::{Scene, World};
 use lumis_io::request::SettingsFlags;
@@ -222,7 +222,7 @@ impl PyScene {
         Ok(blocked(py, &records))
     }
 
-    /// All hits along each ray ([`trace_all_hits`], the function of `lumis hits --all`): the
+    /// All hits along each ray ([`trace_all_hits_parts`], the function of `lumis hits --all`): the
     /// per-hit columns of [`HitColumns`] plus `ray` (int64 ray index) and `graze` (bool).
     #[pyo3(signature = (origins, directions, t_min, t_max, *, precision=None, accel="sah", threads=None))]
     #[allow(clippy::too_many_arguments)]
@@ -244,7 +244,7 @@ impl PyScene {
             threads::run(threads, || {
                 check_rays(&rays)?;
                 let world = self.world(key);
-                Ok(AllHitColumns::new(&trace_all_hits(&world, &rays)))
+                Ok(AllHitColumns::new(&trace_all_hits_parts(&world, &rays)))
             })
         })?;
         let columns = traced.map_err(|(i, e)| RayError::new_err(format!("ray {i}: {e}")))?;

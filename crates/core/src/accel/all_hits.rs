@@ -30,7 +30,8 @@
 //! [`super::RayFrame`]). All accelerators and traversals give brute force's answer bit for bit.
 
 use super::Framing;
-use super::{Accel, TraversalStats};
+use super::wide::LevelQueue;
+use super::{Accel, NO_SLOT, PackedContacts, TraversalStats};
 use crate::geometry::{Contact, Geometry, Precision, PrimHit, Seam, Touch, WatertightRay};
 use crate::math::Ray;
 
@@ -45,6 +46,10 @@ pub struct AllHit {
     pub t: f32,
     /// A touch that does not cross the surface (see the module docs).
     pub graze: bool,
+    /// Where the hit triangle lies in the packed leaves, when it was found there
+    /// ([`Accel::packed_corners`] reads its corners, as for [`super::Traced::slot`]); `None`
+    /// otherwise. Which accelerator found the hit decides it, nothing else does.
+    pub slot: Option<u32>,
 }
 
 /// The answer of an all-hits query.
@@ -55,6 +60,18 @@ pub struct AllHits {
     pub ray: Option<Ray>,
     /// Every hit in the caller's `(t_min, t_max]`, sorted by `t`, ties by primitive index.
     pub hits: Vec<AllHit>,
+}
+
+/// Buffers an all-hits query reuses from one ray to the next (a batch keeps one per thread),
+/// so a ray costs no allocation once they have grown.
+#[derive(Clone, Debug, Default)]
+pub struct AllHitsScratch {
+    prims: Vec<u32>,
+    contacts: Vec<Contact>,
+    /// The packed-leaf slot of each contact ([`AllHit::slot`], [`NO_SLOT`] for none).
+    slots: Vec<u32>,
+    seams: Vec<(Seam, bool, Contact, u32)>,
+    queue: LevelQueue,
 }
 
 impl Accel {
@@ -69,6 +86,30 @@ impl Accel {
         ray: &Ray,
         stats: &mut TraversalStats,
     ) -> AllHits {
+        let mut hits = Vec::new();
+        let traced = self.all_hits_into(
+            geometry,
+            precision,
+            ray,
+            stats,
+            &mut AllHitsScratch::default(),
+            &mut hits,
+        );
+        AllHits { ray: traced, hits }
+    }
+
+    /// [`Accel::all_hits_geometry`] into `hits` (cleared first), with buffers from `scratch`:
+    /// returns [`AllHits::ray`] and leaves [`AllHits::hits`] in `hits`.
+    pub fn all_hits_into(
+        &self,
+        geometry: &Geometry,
+        precision: Precision,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        scratch: &mut AllHitsScratch,
+        hits: &mut Vec<AllHit>,
+    ) -> Option<Ray> {
+        hits.clear();
         // Exact on the caller's own line: a far origin is not moved near the scene, as the
         // nearest-hit query moves it, since the rounding of the moved origin displaces the line
         // by up to half an ulp of the scene's coordinates, and a ray that only touches an edge
@@ -76,52 +117,75 @@ impl Accel {
         // exact for any finite `f32` ray, and the walk's box tests are conservative at any
         // distance; the frame only answers whether the line meets the scene at all.
         if matches!(self.frame.frame(ray), Framing::Miss) {
-            return AllHits::default();
+            return None;
         }
-        // Every primitive of every leaf the interval enters, in whatever order the walk takes.
-        let mut prims = Vec::new();
-        self.any(ray, stats, |p, _| {
-            prims.push(p);
-            false
-        });
-        prims.sort_unstable();
-        prims.dedup();
-        let wr = WatertightRay::new(ray.dir);
-        let mut contacts = Vec::new();
-        for &p in &prims {
-            geometry.contacts(p, ray, &wr, precision, &mut contacts);
+        let (contacts, slots) = (&mut scratch.contacts, &mut scratch.slots);
+        contacts.clear();
+        slots.clear();
+        match self.packed() {
+            // The packed leaves hold each primitive once and test the watertight way.
+            Some((wide, packed)) if precision != Precision::Double => {
+                let mut test = PackedContacts::new(packed, geometry, precision, contacts, slots);
+                wide.each_leaf(ray, stats, &mut test, &mut scratch.queue);
+            }
+            _ => {
+                // Every primitive of every leaf the interval enters, in whatever order the
+                // walk takes, once each (a partition may list one in several leaves).
+                let prims = &mut scratch.prims;
+                prims.clear();
+                self.any(ray, stats, |p, _| {
+                    prims.push(p);
+                    false
+                });
+                prims.sort_unstable();
+                prims.dedup();
+                let wr = WatertightRay::new(ray.dir);
+                for &p in prims.iter() {
+                    geometry.contacts(p, ray, &wr, precision, contacts);
+                }
+                slots.resize(contacts.len(), NO_SLOT);
+            }
         }
-        // A distance beyond `f32::MAX` is no `f32` distance: no hit, as for the other queries.
-        let mut hits: Vec<AllHit> = resolve(contacts)
-            .into_iter()
-            .filter(|(c, _)| c.hit.t.is_finite())
-            .map(|(c, graze)| AllHit {
+        resolve(contacts, slots, &mut scratch.seams, hits);
+        // Stable: a sphere's two roots rounded to one `t` keep their order. The contacts of
+        // one primitive are consecutive and in its own order whatever the walk's order, and
+        // only those can tie on `(t, prim)`: the list does not depend on the walk.
+        hits.sort_by(|a, b| by_t(a.t, b.t).then(a.prim.cmp(&b.prim)));
+        Some(*ray)
+    }
+}
+
+/// Pushes onto `out` the hits of `contacts` (found at `slots`): crossings and grazes as they
+/// are, and one hit per seam (see the module docs), with its graze flag; crossings and grazes
+/// first, then the seams in seam order. `seams` is scratch space. A distance beyond
+/// `f32::MAX` is no `f32` distance: no hit, as for the other queries.
+fn resolve(
+    contacts: &[Contact],
+    slots: &[u32],
+    seams: &mut Vec<(Seam, bool, Contact, u32)>,
+    out: &mut Vec<AllHit>,
+) {
+    let mut push = |c: Contact, slot: u32, graze: bool| {
+        if c.hit.t.is_finite() {
+            out.push(AllHit {
                 prim: c.prim,
                 hit: c.hit,
                 t: c.hit.t,
                 graze,
-            })
-            .collect();
-        // Stable: a sphere's two roots rounded to one `t` keep their order.
-        hits.sort_by(|a, b| by_t(a.t, b.t).then(a.prim.cmp(&b.prim)));
-        AllHits {
-            ray: Some(*ray),
-            hits,
+                slot: (slot != NO_SLOT).then_some(slot),
+            });
+        }
+    };
+    seams.clear();
+    for (&c, &slot) in contacts.iter().zip(slots) {
+        match c.touch {
+            Touch::Crossing => push(c, slot, false),
+            Touch::Graze => push(c, slot, true),
+            Touch::Boundary { seam, claims } => seams.push((seam, claims, c, slot)),
         }
     }
-}
-
-/// The hits of a set of contacts (in primitive order): crossings and grazes as they are, and
-/// one hit per seam (see the module docs), with its graze flag.
-fn resolve(contacts: Vec<Contact>) -> Vec<(Contact, bool)> {
-    let mut out = Vec::with_capacity(contacts.len());
-    let mut seams: Vec<(Seam, bool, Contact)> = Vec::new();
-    for c in contacts {
-        match c.touch {
-            Touch::Crossing => out.push((c, false)),
-            Touch::Graze => out.push((c, true)),
-            Touch::Boundary { seam, claims } => seams.push((seam, claims, c)),
-        }
+    if seams.is_empty() {
+        return;
     }
     let order = |a: &Contact, b: &Contact| by_t(a.hit.t, b.hit.t).then(a.prim.cmp(&b.prim));
     seams.sort_by(|a, b| a.0.cmp(&b.0).then(order(&a.2, &b.2)));
@@ -130,15 +194,14 @@ fn resolve(contacts: Vec<Contact>) -> Vec<(Contact, bool)> {
         let crossing = claimers % 2 == 1;
         // Sorted by (t, index): the first member has the group's t.
         let t = group[0].2.hit.t;
-        let (_, _, mut rep) = if crossing {
+        let (_, _, mut rep, slot) = if crossing {
             *group.iter().find(|m| m.1).unwrap_or(&group[0])
         } else {
             group[0]
         };
         rep.hit.t = t;
-        out.push((rep, !crossing));
+        push(rep, slot, !crossing);
     }
-    out
 }
 
 /// Distances in IEEE order, as the nearest-hit query compares them: `-0 == +0` (a tie, broken

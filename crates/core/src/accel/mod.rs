@@ -27,7 +27,7 @@ mod segments;
 mod test_boxes;
 mod wide;
 
-pub use all_hits::{AllHit, AllHits};
+pub use all_hits::{AllHit, AllHits, AllHitsScratch};
 pub use bsp::SplitRule;
 pub use bvh::{Bvh, Node};
 // The frame lives with the geometry, whose instances frame rays too; named here as ever.
@@ -42,7 +42,7 @@ use std::sync::Arc;
 use crate::geometry::{Geometry, PrimHit, Primitive};
 use crate::math::{Aabb, Ray};
 pub use packed::PackedLeaves;
-pub(crate) use packed::PackedWatertight;
+pub(crate) use packed::{NO_SLOT, PackedContacts, PackedWatertight};
 
 /// Which acceleration structure to build.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

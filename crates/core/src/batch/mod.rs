@@ -32,11 +32,11 @@ use rayon::prelude::*;
 
 pub use records::{AllHitRecord, HitRecord, PrimKind};
 
-use crate::accel::{Hit, PACKET, Traced, TraversalStats};
+use crate::accel::{AllHit, Hit, PACKET, Traced, TraversalStats};
 use crate::geometry::Primitive;
 use crate::math::{Ray, Vec3};
 use crate::scene::domain::{RayError, check_ray};
-use crate::scene::{Scene, World};
+use crate::scene::{AllHitsBuffers, Scene, World};
 
 /// Floats per ray row: origin xyz, direction xyz, `t_min`, `t_max`.
 pub const RAY_COLUMNS: usize = 8;
@@ -117,37 +117,74 @@ pub fn check_rays<B: RayBatch + ?Sized>(rays: &B) -> Result<(), (usize, RayError
 /// ray order (see the module docs). Rays must be inside the domain ([`check_rays`]); the
 /// result does not depend on the thread count.
 pub fn trace_all_hits<B: RayBatch + ?Sized>(world: &World, rays: &B) -> Vec<AllHitRecord> {
-    let n = rays.len();
-    let chunks: Vec<Vec<AllHitRecord>> = (0..n.div_ceil(CHUNK))
+    trace_all_hits_parts(world, rays).concat()
+}
+
+/// [`trace_all_hits`] in parts, in ray order (concatenated, they are its answer; how the rays
+/// are split depends on the threads): for callers that copy the records into their own layout
+/// anyway, which then skip the concatenation, whose fresh memory cost more page faults than
+/// copying (Python's columns).
+pub fn trace_all_hits_parts<B: RayBatch + ?Sized>(
+    world: &World,
+    rays: &B,
+) -> Vec<Vec<AllHitRecord>> {
+    // Each split of the rays appends to one vector, with one set of buffers reused from ray
+    // to ray: a vector per ray or per small chunk cost its growth and its page faults.
+    (0..rays.len())
         .into_par_iter()
-        .map(|c| {
-            let mut stats = TraversalStats::default();
-            let mut records = Vec::new();
-            for i in c * CHUNK..n.min((c + 1) * CHUNK) {
-                let hits = world.all_hits(&rays.ray(i), &mut stats);
-                records.extend(hits.iter().map(|h| AllHitRecord {
-                    ray: i,
-                    hit: HitRecord {
-                        t: h.t,
-                        prim: Some(if h.instance.is_some() {
-                            h.inner
-                        } else {
-                            h.prim
-                        }),
-                        object: Some(h.object),
-                        u: h.u,
-                        v: h.v,
-                        normal: h.normal,
-                        kind: Some(h.primitive.into()),
-                        instance: h.instance,
-                    },
-                    graze: h.graze,
-                }));
-            }
-            records
-        })
-        .collect();
-    chunks.concat()
+        .with_min_len(CHUNK)
+        .fold(
+            || {
+                (
+                    TraversalStats::default(),
+                    AllHitsBuffers::default(),
+                    Vec::new(),
+                )
+            },
+            |(mut stats, mut buffers, mut records), i| {
+                if let Some((traced, hits)) =
+                    world.all_hits_found(&rays.ray(i), &mut stats, &mut buffers)
+                {
+                    records.extend(hits.iter().map(|h| AllHitRecord {
+                        ray: i,
+                        hit: all_hit_record(world, &traced, h),
+                        graze: h.graze,
+                    }));
+                }
+                (stats, buffers, records)
+            },
+        )
+        .map(|(_, _, records)| records)
+        .filter(|records| !records.is_empty())
+        .collect()
+}
+
+/// The record of one hit of an all-hits query found on `traced` (the fields of
+/// [`World::all_hits`]'s [`crate::scene::SurfaceHit`], as [`nearest_record`] reads them).
+#[inline]
+fn all_hit_record(world: &World, traced: &Ray, h: &AllHit) -> HitRecord {
+    let scene = world.scene();
+    let g = scene.geometry();
+    let (prim, inner) = (h.prim, h.hit.inner);
+    let instance = g.instance_of(prim);
+    HitRecord {
+        t: h.t,
+        // An instance's hit names the prototype's primitive, as Embree's `primID` does.
+        prim: Some(if instance.is_some() { inner } else { prim }),
+        object: Some(match instance {
+            Some(instance) => scene.instance_object(instance, inner),
+            None => scene.object_of(prim),
+        }),
+        u: h.hit.u,
+        v: h.hit.v,
+        normal: world.all_hit_normal(traced, h),
+        // A hit from the packed leaves is a triangle; only others read the primitive list.
+        kind: Some(match h.slot {
+            Some(_) => PrimKind::Triangle,
+            None => g.leaf_primitive(prim, inner).into(),
+        }),
+        instance,
+    }
 }
 
 /// Traces every ray through `world` in parallel on the current rayon pool; record `i` answers

@@ -102,14 +102,7 @@ impl Geometry {
                 };
                 let Some(hit) = hit else { return };
                 let corners = self.meshes[mesh as usize].corners(tri);
-                let k = [wr.kx, wr.ky, wr.kz];
-                if let Some(touch) = triangle_touch(ray, k, corners, mesh) {
-                    out.push(Contact {
-                        prim: index,
-                        hit,
-                        touch,
-                    });
-                }
+                out.extend(triangle_contact(index, hit, ray, wr, corners, mesh));
             }
             Primitive::Sphere { sphere } => {
                 let s = &self.spheres[sphere as usize];
@@ -155,6 +148,25 @@ impl Geometry {
     }
 }
 
+/// The contact of a triangle (primitive `index` of mesh `mesh`, corners `corners`) that the
+/// triangle test hit at `hit` (see [`Geometry::contacts`]); `wr` is the ray's shear.
+#[inline]
+pub(crate) fn triangle_contact(
+    index: u32,
+    hit: PrimHit,
+    ray: &Ray,
+    wr: &WatertightRay,
+    corners: [Vec3; 3],
+    mesh: u32,
+) -> Option<Contact> {
+    let touch = triangle_touch(ray, [wr.kx, wr.ky, wr.kz], corners, mesh)?;
+    Some(Contact {
+        prim: index,
+        hit,
+        touch,
+    })
+}
+
 /// How a touched triangle is met: `None` when the exact edge signs say it is not touched at
 /// all (only where the caller's hit came from elsewhere; the triangle tests never do that).
 fn triangle_touch(ray: &Ray, k: [usize; 3], p: [Vec3; 3], mesh: u32) -> Option<Touch> {
@@ -174,12 +186,20 @@ fn triangle_touch(ray: &Ray, k: [usize; 3], p: [Vec3; 3], mesh: u32) -> Option<T
     if signs.iter().any(|s| *s == side.reverse()) {
         return None;
     }
-    let zero: Vec<usize> = (0..3).filter(|&i| signs[i].is_eq()).collect();
+    let mut zero = [0; 3];
+    let mut zeros = 0;
+    for (i, s) in signs.iter().enumerate() {
+        if s.is_eq() {
+            zero[zeros] = i;
+            zeros += 1;
+        }
+    }
+    let zero = &zero[..zeros];
     let claims = zero.iter().all(|&i| {
         let (a, b) = ends(i);
         perturbed_sign(ray.dir, a, b, k) == side
     });
-    let seam = match zero[..] {
+    let seam = match *zero {
         [] => return Some(Touch::Crossing),
         [i] => {
             let (a, b) = ends(i);
@@ -228,7 +248,9 @@ pub(crate) fn perturbed_sign(d: Vec3, p: Vec3, q: Vec3, k: [usize; 3]) -> Orderi
 fn cross_of_difference(a1: f32, b1: f32, s1: f32, a2: f32, b2: f32, s2: f32) -> Ordering {
     let (h1, l1) = two_sum(b1 as f64, -(a1 as f64)).parts();
     let (h2, l2) = two_sum(b2 as f64, -(a2 as f64)).parts();
-    let mut e = Vec::with_capacity(8);
+    // Eight terms: the expansion never holds more.
+    let mut e = [0.0; 8];
+    let mut len = 0;
     for (x, s) in [
         (h1, s1 as f64),
         (l1, s1 as f64),
@@ -236,18 +258,21 @@ fn cross_of_difference(a1: f32, b1: f32, s1: f32, a2: f32, b2: f32, s2: f32) -> 
         (-l2, s2 as f64),
     ] {
         let (hi, lo) = two_prod(x, s).parts();
-        grow(&mut e, lo);
-        grow(&mut e, hi);
+        len = grow(&mut e, len, lo);
+        len = grow(&mut e, len, hi);
     }
-    e.last().map_or(Ordering::Equal, |x| x.total_cmp(&0.0))
+    e[..len]
+        .last()
+        .map_or(Ordering::Equal, |x| x.total_cmp(&0.0))
 }
 
-/// Adds `b` to the expansion `e` (non-overlapping, increasing magnitude, no zeros), keeping it
-/// so: Shewchuk's GROW-EXPANSION with zero elimination (as in [`super::exact`]).
-fn grow(e: &mut Vec<f64>, b: f64) {
+/// Adds `b` to the expansion `e[..len]` (non-overlapping, increasing magnitude, no zeros),
+/// keeping it so, and returns its new length: Shewchuk's GROW-EXPANSION with zero
+/// elimination (as in [`super::exact`]). `e` has room for one more term than `len`.
+fn grow(e: &mut [f64; 8], len: usize, b: f64) -> usize {
     let mut q = b;
     let mut out = 0;
-    for i in 0..e.len() {
+    for i in 0..len {
         let (s, h) = two_sum(q, e[i]).parts();
         q = s;
         if h != 0.0 {
@@ -255,10 +280,11 @@ fn grow(e: &mut Vec<f64>, b: f64) {
             out += 1;
         }
     }
-    e.truncate(out);
     if q != 0.0 {
-        e.push(q);
+        e[out] = q;
+        out += 1;
     }
+    out
 }
 
 /// A sphere's roots along a ray, as [`Sphere::intersect_double`] computes them.

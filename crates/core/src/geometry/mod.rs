@@ -5,7 +5,7 @@
 
 mod accuracy;
 mod conditioning;
-mod crossing;
+pub(crate) mod crossing;
 pub(crate) mod edge_bound;
 mod exact;
 mod exact3d;

@@ -2,8 +2,8 @@
 //! once (the rule is stated in [`crate::accel::AllHits`]'s module and in docs/hard-cases.md).
 
 use super::World;
-use crate::accel::TraversalStats;
-use crate::geometry::Primitive;
+use crate::accel::{AllHit, AllHitsScratch, TraversalStats};
+use crate::geometry::{Primitive, unit_face_normal};
 use crate::math::{Ray, Vec3};
 
 /// One hit of [`World::all_hits`]: the nearest-hit record's fields and a graze flag.
@@ -39,15 +39,11 @@ impl World {
     pub fn all_hits(&self, ray: &Ray, stats: &mut TraversalStats) -> Vec<SurfaceHit> {
         let scene = self.scene();
         let g = scene.geometry();
-        let found = self
-            .accel()
-            .all_hits_geometry(g, scene.settings().precision, ray, stats);
-        let Some(traced) = found.ray else {
+        let mut buffers = AllHitsBuffers::default();
+        let Some((traced, hits)) = self.all_hits_found(ray, stats, &mut buffers) else {
             return Vec::new();
         };
-        found
-            .hits
-            .iter()
+        hits.iter()
             .map(|h| SurfaceHit {
                 t: h.t,
                 prim: h.prim,
@@ -56,11 +52,55 @@ impl World {
                 inner: h.hit.inner,
                 u: h.hit.u,
                 v: h.hit.v,
-                // On the ray the hit was found on: the caller's, traced as given.
-                normal: g.geometric_normal(h.prim, &traced, &h.hit),
+                normal: self.all_hit_normal(&traced, h),
                 primitive: g.leaf_primitive(h.prim, h.hit.inner),
                 graze: h.graze,
             })
             .collect()
     }
+
+    /// The hits of [`World::all_hits`] as the accelerator finds them, on the ray it returns
+    /// (`None`: the ray misses the scene), in buffers kept by the caller from ray to ray: for
+    /// batches, which turn them into records without a [`SurfaceHit`]'s look-ups.
+    pub fn all_hits_found<'b>(
+        &self,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        buffers: &'b mut AllHitsBuffers,
+    ) -> Option<(Ray, &'b [AllHit])> {
+        let scene = self.scene();
+        let AllHitsBuffers { scratch, hits } = buffers;
+        let traced = self.accel().all_hits_into(
+            scene.geometry(),
+            scene.settings().precision,
+            ray,
+            stats,
+            scratch,
+            hits,
+        )?;
+        Some((traced, hits))
+    }
+
+    /// The unit geometric normal of an all-hits hit found on `traced`: from the packed leaves'
+    /// copy of the triangle when the hit was found there (the same bits, without the dependent
+    /// reads of the primitive list, the index buffer and the vertices), else computed on
+    /// `traced`, the caller's ray as given.
+    pub fn all_hit_normal(&self, traced: &Ray, h: &AllHit) -> Vec3 {
+        h.slot
+            .and_then(|slot| self.accel().packed_corners(slot))
+            .map_or_else(
+                || {
+                    let g = self.scene().geometry();
+                    g.geometric_normal(h.prim, traced, &h.hit)
+                },
+                unit_face_normal,
+            )
+    }
+}
+
+/// What [`World::all_hits_found`] reuses from one ray to the next.
+#[derive(Clone, Debug, Default)]
+pub struct AllHitsBuffers {
+    scratch: AllHitsScratch,
+    hits: Vec<AllHit>,
 }

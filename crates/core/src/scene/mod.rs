@@ -14,7 +14,7 @@ pub mod limits;
 mod settings;
 mod world;
 
-pub use all_hits::SurfaceHit;
+pub use all_hits::{AllHitsBuffers, SurfaceHit};
 pub use animation::{Frame, FrameRate};
 pub use auto::{UpAxis, default_rig, framing_camera};
 pub use builder::{Part, SceneBuilder, Shape};

@@ -95,8 +95,11 @@ impl GroupTest {
                 return Decided::ALL_SCALAR;
             }
             let (sx, sy) = (_mm_set1_ps(self.sx), _mm_set1_ps(self.sy));
-            let o = self.origin.map(|x| _mm_set1_ps(x));
-            let w = self.weight.map(|x| _mm_set1_ps(x));
+            // Written out: `[f32; N]::map` went through a call to `array::try_map` that was
+            // not inlined (~60 instructions per group, callgrind).
+            let [ox, oy, oz] = self.origin;
+            let o = [_mm_set1_ps(ox), _mm_set1_ps(oy), _mm_set1_ps(oz)];
+            let w = [_mm_set1_ps(self.weight[0]), _mm_set1_ps(self.weight[1])];
             let abs = |x: __m128| _mm_andnot_ps(_mm_set1_ps(-0.0), x);
             let (add, mul) = (|a, b| _mm_add_ps(a, b), |a, b| _mm_mul_ps(a, b));
             let tiny = _mm_set1_ps(TINY);

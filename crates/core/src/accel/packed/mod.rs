@@ -12,6 +12,7 @@
 //! miss every leaf never pay for it.
 
 mod classify;
+mod contacts;
 
 use super::leaves::{AnyLeaves, ClosestLeaves, Prefetch, prefetch_lines};
 use super::{Closest, LEAF_ALIGN, PADDING, TraversalStats};
@@ -21,6 +22,7 @@ use crate::geometry::triangle::{
 use crate::geometry::{Geometry, Precision, PrimHit, Primitive};
 use crate::math::{Ray, Vec3};
 use classify::GroupTest;
+pub(crate) use contacts::PackedContacts;
 
 /// Lanes per group: the wide hierarchy aligns its leaves to this.
 const LANES: usize = LEAF_ALIGN;
@@ -114,7 +116,7 @@ pub(crate) struct PackedWatertight<'a> {
 }
 
 /// [`PackedWatertight::best_slot`] of a query without a hit.
-const NO_SLOT: u32 = u32::MAX;
+pub(crate) const NO_SLOT: u32 = u32::MAX;
 
 impl<'a> PackedWatertight<'a> {
     /// The test over `packed`, built from `geometry` (which holds the spheres).

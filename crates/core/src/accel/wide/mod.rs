@@ -11,6 +11,7 @@
 
 mod binary;
 mod child_test;
+mod every_leaf;
 mod in_flight;
 pub(crate) mod inside;
 mod lanes;
@@ -19,6 +20,7 @@ mod packet;
 mod traverse;
 mod walk;
 
+pub(crate) use every_leaf::LevelQueue;
 pub(crate) use in_flight::NearestQueries;
 pub(crate) use inside::{Entered, Inside};
 pub(crate) use nearest::NearestStack;
