@@ -1,6 +1,7 @@
-"""The public API with its types: the three ways in (a file, arrays, trimesh), ray queries and
-a render, containment. `mypy --strict python/examples/typed_usage.py` passes (python/tests/test_typing.py
-checks it and runs this file); run it from anywhere: `python python/examples/typed_usage.py`.
+"""The public API with its types: the three ways in (a file, arrays, trimesh), ray queries,
+containment and a render. `mypy --strict python/examples/typed_usage.py` passes
+(python/tests/test_typing.py checks it and runs this file); run it from anywhere:
+`python python/examples/typed_usage.py`.
 """
 
 from __future__ import annotations
@@ -74,7 +75,8 @@ def queries(scene: lumis.Scene, box: int) -> None:
     assert counts.tolist() == [2, 2, 2, 2] and not every.graze.any()
     blocked: npt.NDArray[np.bool_] = scene.occluded(origins, directions, t_max=0.5)
     assert not blocked.any()
-    inside: npt.NDArray[np.bool_] = scene.contains([[0.5, 0.5, 0.5], [0.5, 0.5, 1.0], [2.0, 2.0, 2.0]])
+    points = [[0.5, 0.5, 0.5], [0.5, 0.5, 1.0], [2.0, 2.0, 2.0]]
+    inside: npt.NDArray[np.bool_] = scene.contains(points)
     assert inside.tolist() == [True, True, False]  # a point on the surface is inside
     assert scene.containment_methods == ["exact", "exact", "exact"]
     alone = lumis.Scene.from_arrays(CORNERS, FACES)

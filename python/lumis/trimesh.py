@@ -59,7 +59,10 @@ class RayMeshIntersector:
     def __init__(self, geometry: Trimesh, scale_to_box: bool = True) -> None:
         self.mesh = geometry
         self._scale_to_box = scale_to_box
-        self._cache = caching.Cache(id_function=self.mesh.__hash__)  # type: ignore[no-untyped-call]
+        # trimesh's cache is untyped.
+        self._cache = caching.Cache(  # type: ignore[no-untyped-call]
+            id_function=self.mesh.__hash__
+        )
 
     @caching.cache_decorator  # type: ignore[untyped-decorator]
     def _scene(self) -> "_MeshScene":
@@ -185,7 +188,10 @@ class RayMeshIntersector:
 
     def __setstate__(self, state: Dict[str, Any]) -> None:
         self.__dict__.update(state)
-        self._cache = caching.Cache(id_function=self.mesh.__hash__)  # type: ignore[no-untyped-call]
+        # trimesh's cache is untyped.
+        self._cache = caching.Cache(  # type: ignore[no-untyped-call]
+            id_function=self.mesh.__hash__
+        )
 
     def __deepcopy__(self, *args: Any) -> "RayMeshIntersector":
         return self.__copy__()
