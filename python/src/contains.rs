@@ -19,6 +19,9 @@ fn method_name(m: ContainmentMethod) -> &'static str {
     }
 }
 
+/// Two bool arrays of one length: the answers, and which of them the winding number gave.
+type Answers<'py> = (Bound<'py, PyArray1<bool>>, Bound<'py, PyArray1<bool>>);
+
 /// Whether each point of `points` (`(N, 3)` float32 or float64, rounded to float32 once) lies
 /// inside the scene's solids, and whether the winding number decided it: two bool arrays.
 #[pyfunction]
@@ -28,7 +31,7 @@ pub fn contains<'py>(
     scene: &PyScene,
     points: &Bound<'py, PyAny>,
     threads: Option<usize>,
-) -> PyResult<(Bound<'py, PyArray1<bool>>, Bound<'py, PyArray1<bool>>)> {
+) -> PyResult<Answers<'py>> {
     let points = arrays::points(points, "points")?;
     let answers = py.detach(|| {
         threads::run(threads, || {
