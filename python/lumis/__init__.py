@@ -140,8 +140,9 @@ class AllHits:
     and so on, each ray's sorted by `t` (ties by primitive id).
 
     `ray` (int64) is the index of the ray each hit belongs to; `t`, `prim_id`, `obj_id`, `u`,
-    `v`, `normal`, `kind`, `inst_id` are as in `Hits`; `graze` (bool) is true for a touch that does not
-    cross the surface (a silhouette edge or vertex, a tangent sphere), false for a crossing.
+    `v`, `normal`, `kind`, `inst_id` are as in `Hits`; `graze` (bool) is true for a touch that
+    does not cross the surface (a silhouette edge or vertex, a tangent sphere), false for a
+    crossing.
     Each surface crossing is counted once, also where the ray passes through a shared edge or
     vertex (docs/hard-cases.md, "All hits along a ray").
     """
