@@ -11,6 +11,7 @@ mod builder;
 mod contains;
 pub mod domain;
 pub mod limits;
+mod object_ranges;
 mod settings;
 mod world;
 
@@ -33,6 +34,7 @@ use crate::environment::Environment;
 use crate::geometry::{Geometry, SurfacePoint};
 use crate::light::Light;
 use crate::material::Material;
+use object_ranges::ObjectRanges;
 
 /// A named thing in the scene (a sphere or a mesh) with one material.
 #[derive(Clone, Debug, PartialEq)]
@@ -52,10 +54,8 @@ pub struct Scene {
     instance_objects: Vec<u32>,
     /// The first primitive of each part of each prototype, by prototype.
     prototype_parts: Vec<Vec<u32>>,
-    /// The first primitive of each object: objects own consecutive ranges, in object order.
-    /// (A table per primitive cost a cache miss per hit record on large meshes and 4 bytes
-    /// per primitive.)
-    object_starts: Vec<u32>,
+    /// The primitives of each object.
+    object_ranges: ObjectRanges,
     objects: Vec<Object>,
     materials: Vec<Material>,
     material_names: Vec<String>,
@@ -112,12 +112,7 @@ impl Scene {
     /// Object owning primitive `prim`.
     #[inline]
     pub fn object_of(&self, prim: u32) -> u32 {
-        match self.object_starts.as_slice() {
-            [] | [_] => 0,
-            // The last object starting at or before `prim` (an empty object shares its start
-            // with the next one and owns nothing).
-            starts => (starts.partition_point(|&s| s <= prim) - 1) as u32,
-        }
+        self.object_ranges.object_of(prim)
     }
 
     /// Object owning a hit on primitive `prim` with [`crate::geometry::PrimHit::inner`]

@@ -11,6 +11,8 @@
 //! [`intersect_triangle`]: crate::geometry::triangle::intersect_triangle
 //! [`edge_bound`]: crate::geometry::edge_bound::edge_bound
 
+mod range;
+
 use super::{Group, LANES};
 use crate::geometry::edge_bound::{ABS_TINY, G, G2, GG, TINY};
 use crate::geometry::triangle::WatertightRay;
@@ -47,6 +49,8 @@ pub(super) struct GroupTest {
     k: [usize; 3],
     sx: f32,
     sy: f32,
+    /// The direction's component along the shear's major axis `k[2]`.
+    dir_kz: f32,
 }
 
 impl GroupTest {
@@ -58,23 +62,36 @@ impl GroupTest {
             k: [wr.kx, wr.ky, wr.kz],
             sx: wr.sx,
             sy: wr.sy,
+            dir_kz: ray.dir.to_array()[wr.kz],
         }
     }
 
     /// The decisions for group `g`, lanes outside `valid` left undecided (neither set).
     #[inline(always)]
     pub(super) fn decide(&self, g: &Group, valid: u32) -> Decided {
+        self.decide_within(g, valid, None)
+    }
+
+    /// [`Self::decide`], and a line hit whose distance certainly rounds outside `ray`'s
+    /// interval is rejected here ([`range`]), without its corners and the `f64` plane distance.
+    #[inline(always)]
+    pub(super) fn decide_in_range(&self, g: &Group, valid: u32, ray: &Ray) -> Decided {
+        self.decide_within(g, valid, Some(range::Interval::of(ray)))
+    }
+
+    #[inline(always)]
+    fn decide_within(&self, g: &Group, valid: u32, interval: Option<range::Interval>) -> Decided {
         #[cfg(target_arch = "x86_64")]
         {
             // SAFETY: SSE is part of the x86-64 baseline.
-            let mut d = unsafe { self.decide_sse(g) };
+            let mut d = unsafe { self.decide_sse(g, interval) };
             d.line_hits &= valid;
             d.scalar &= valid;
             d
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
-            let _ = g;
+            let _ = (g, interval);
             Decided {
                 scalar: valid,
                 ..Decided::ALL_SCALAR
@@ -84,7 +101,7 @@ impl GroupTest {
 
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    unsafe fn decide_sse(&self, g: &Group) -> Decided {
+    unsafe fn decide_sse(&self, g: &Group, interval: Option<range::Interval>) -> Decided {
         use std::arch::x86_64::*;
         // SAFETY (whole body): each row is 4 contiguous f32; SSE is baseline on x86-64.
         unsafe {
@@ -113,11 +130,11 @@ impl GroupTest {
                 let my = add(add(abs(d[ky]), mul(w[1], z)), tiny);
                 let sheared_x = _mm_sub_ps(d[kx], mul(sx, d[kz]));
                 let sheared_y = _mm_sub_ps(d[ky], mul(sy, d[kz]));
-                (sheared_x, sheared_y, (mx, my))
+                (sheared_x, sheared_y, (mx, my), d[kz])
             };
-            let (ax, ay, ma) = vertex(0);
-            let (bx, by, mb) = vertex(1);
-            let (cx, cy, mc) = vertex(2);
+            let (ax, ay, ma, dz_a) = vertex(0);
+            let (bx, by, mb, dz_b) = vertex(1);
+            let (cx, cy, mc, dz_c) = vertex(2);
             let (g2, g, gg, abs_tiny) = (
                 _mm_set1_ps(G2),
                 _mm_set1_ps(G),
@@ -141,11 +158,11 @@ impl GroupTest {
                     );
                     let cross = mul(gg, add(mul(mxp, myq), mul(mxq, myp)));
                     let bound = add(add(add(own, inputs), cross), abs_tiny);
-                    (e, _mm_cmpgt_ps(abs(e), bound))
+                    (e, _mm_cmpgt_ps(abs(e), bound), bound)
                 };
-            let (e0, k0) = edge((cx, cy, mc), (bx, by, mb));
-            let (e1, k1) = edge((ax, ay, ma), (cx, cy, mc));
-            let (e2, k2) = edge((bx, by, mb), (ax, ay, ma));
+            let (e0, k0, b0) = edge((cx, cy, mc), (bx, by, mb));
+            let (e1, k1, b1) = edge((ax, ay, ma), (cx, cy, mc));
+            let (e2, k2, b2) = edge((bx, by, mb), (ax, ay, ma));
             let zero = _mm_setzero_ps();
             let neg = _mm_or_ps(
                 _mm_or_ps(
@@ -180,10 +197,26 @@ impl GroupTest {
                 _mm_cmplt_ps(det_abs, _mm_set1_ps(f32::INFINITY)),
             );
             let inv_det = _mm_div_ps(_mm_set1_ps(1.0), det);
-            let line_hits = all_known & !rejected & _mm_movemask_ps(normal_det) as u32;
+            let mut line_hits = all_known & !rejected & _mm_movemask_ps(normal_det) as u32;
+            // Lines hit outside the interval are rejected: neither finished nor scalar.
+            let mut outside = 0;
+            if let Some(interval) = interval
+                && line_hits != 0
+            {
+                // SAFETY: SSE is part of the x86-64 baseline.
+                outside = range::outside(
+                    interval,
+                    [e0, e1, e2],
+                    [b0, b1, b2],
+                    [dz_a, dz_b, dz_c],
+                    det,
+                    self.dir_kz,
+                );
+                line_hits &= !outside;
+            }
             let mut d = Decided {
                 line_hits,
-                scalar: !rejected & !line_hits & ((1 << LANES) - 1),
+                scalar: !rejected & !line_hits & !outside & ((1 << LANES) - 1),
                 u: [0.0; LANES],
                 v: [0.0; LANES],
             };

@@ -232,7 +232,7 @@ impl<'a> PackedWatertight<'a> {
         while left > 0 {
             let lanes = left.min(LANES);
             let group = &self.packed.groups[g];
-            let decided = test.decide(group, (1 << lanes) - 1);
+            let decided = test.decide_in_range(group, (1 << lanes) - 1, &ray);
             let mut mask = decided.line_hits | decided.scalar;
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;

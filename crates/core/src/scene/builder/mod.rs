@@ -7,6 +7,7 @@ use singular::PartShape;
 
 use super::domain;
 use super::limits::{self, LimitError};
+use super::object_ranges::ObjectRanges;
 use super::{Frame, Object, Scene, Settings};
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Mesh, Placement, PlacementError, Sphere};
@@ -324,11 +325,12 @@ impl SceneBuilder {
         if let Some(e) = self.rejected {
             return Err(e);
         }
+        let object_ranges = ObjectRanges::new(self.object_starts, self.geometry.prims().len());
         Ok(Scene {
             geometry: self.geometry,
             instance_objects: self.instance_objects,
             prototype_parts: self.prototype_starts,
-            object_starts: self.object_starts,
+            object_ranges,
             objects: self.objects,
             materials: self.materials,
             material_names: self.material_names,
