@@ -149,6 +149,49 @@ fn degenerate_scenes_agree_with_brute_force() {
     assert_eq!(n, 15_000);
 }
 
+/// Rays whose interval ends just at, before or after their brute-force hit, and rays leaving
+/// each hit point (hits near `t = 0`, some behind): the ends of the interval, where the packed
+/// group test's range filter may reject only what the exact test would (t = N / (D dir) bounded
+/// from the edge functions' errors).
+#[test]
+fn interval_ends_at_the_hit_agree_with_brute_force() {
+    for (name, g, seed) in [
+        ("tessellated", scenes::tessellated(6), 61),
+        ("uniform", scenes::uniform(7, 60, 400), 62),
+        ("clustered", scenes::clustered(8, 200, 300), 63),
+    ] {
+        let mut rng = Rng::new(seed);
+        let bounds = g.prim_bounds();
+        let reference = brute(&g);
+        let mut rays = Vec::new();
+        let mut near_ends = 0;
+        while rays.len() < 6_000 {
+            let probe = rays::aimed(&mut rng, &g, &bounds);
+            let Some(h) = closest(&reference, &g, &probe) else {
+                continue;
+            };
+            let t = h.hit.t;
+            for t_max in [
+                t,
+                t.next_down(),
+                t.next_up(),
+                t * (1.0 - 1e-6),
+                t * (1.0 + 1e-6),
+            ] {
+                rays.push(Ray { t_max, ..probe });
+            }
+            // From the hit point, forwards and back: the same plane at t ~ 0 either side.
+            let p = probe.at(t);
+            rays.push(Ray::new(p, probe.dir));
+            rays.push(Ray::new(p, -probe.dir));
+            rays.push(Ray::new(p, rng.unit_vector()));
+            near_ends += 1;
+        }
+        assert!(near_ends > 600, "{name}: only {near_ends} hits");
+        check(name, &g, &rays);
+    }
+}
+
 /// Coincident duplicates give bit-identical `t`; every kind must report the lowest index among
 /// the primitives hit at the smallest `t`, whatever order its traversal visits them in.
 #[test]

@@ -17,8 +17,8 @@ pub(crate) struct ObjectRanges {
 /// At most this many primitives per object on average, and at least [`MIN_OBJECTS`] objects,
 /// for the per-primitive table.
 const DENSE: usize = 8;
-/// Below this many objects the search takes a few steps.
-const MIN_OBJECTS: usize = 16;
+/// One object needs neither.
+const MIN_OBJECTS: usize = 2;
 
 impl ObjectRanges {
     /// The ranges starting at `starts`, over `prims` primitives in all.
