@@ -130,10 +130,8 @@ fn packets_into_one_instance_answer_as_single_rays() {
     let paths = crate::common::simd::simd_paths("packets into one instance");
     for path in paths.each() {
         let walked = packets_into_one_instance(path.name());
-        // Without SIMD every packet goes one ray at a time.
-        if path == SimdPath::Scalar {
-            assert_eq!(walked, 0, "scalar: {walked} packets walked together");
-        } else {
+        // Without SIMD only packets that miss the instance's box are answered together.
+        if path != SimdPath::Scalar {
             assert!(
                 walked > 1000,
                 "{}: only {walked} packets walked together",

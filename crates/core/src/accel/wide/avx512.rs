@@ -226,7 +226,7 @@ mod tests {
         for case in 0..20_000 {
             let v = |rng: &mut Xorshift| Vec3::new(rng.unit(), rng.unit(), rng.unit()) * 8.0 - 4.0;
             for lane in 0..8 {
-                if rng.next() % 8 == 0 {
+                if rng.next().is_multiple_of(8) {
                     continue;
                 }
                 let (p, q) = (v(&mut rng), v(&mut rng));
@@ -243,7 +243,11 @@ mod tests {
             let (mask_a, near_a) = Avx2(octant).test(&node, t_min, t_max);
             let (mask_b, near_b) = Avx512(octant).test(&node, t_min, t_max);
             assert_eq!(mask_a, mask_b, "case {case}");
-            assert_eq!(near_a.map(f32::to_bits), near_b.map(f32::to_bits), "case {case}");
+            assert_eq!(
+                near_a.map(f32::to_bits),
+                near_b.map(f32::to_bits),
+                "case {case}"
+            );
             entered += mask_a.count_ones();
         }
         assert!(entered > 2_000, "only {entered} lanes entered");
