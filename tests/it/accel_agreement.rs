@@ -3,11 +3,13 @@
 //! the same primitive and bit-identical `t`, `u`, `v` for `intersect`, the same verdict for
 //! `occluded`. Hierarchies also pass their own invariant check (`Bvh::validate`).
 //!
-//! Scenes and rays are seeded; a failure names the scene, kind, leaf size and ray index.
+//! Every SIMD path the CPU supports is walked (`common::simd`).
+//!
+//! Scenes and rays are seeded; a failure names the scene, kind, leaf size, path and ray index.
 
 use crate::common;
 
-use common::{Rng, all_kinds, brute, closest, occluded, rays, same_hit, scenes};
+use common::{Rng, all_kinds, brute, closest, occluded, rays, same_hit, scenes, simd};
 use lumis_core::accel::{
     Accel, AccelKind, BuildOptions, BuildQuality, Hit, SegmentParams, Traversal,
 };
@@ -59,6 +61,7 @@ fn check(name: &str, g: &Geometry, rays: &[Ray]) -> usize {
             "{name}: brute intersect/occluded disagree on ray {i}"
         );
     }
+    let paths = simd::simd_paths(&format!("accel agreement, {name}"));
     for (kind, quality) in builds() {
         for max_leaf_size in LEAF_SIZES {
             let opts = BuildOptions {
@@ -82,10 +85,15 @@ fn check(name: &str, g: &Geometry, rays: &[Ray]) -> usize {
                     "{name} {kind:?} {quality:?} leaf {max_leaf_size}: invalid wide hierarchy: {e}"
                 );
             }
-            for traversal in TRAVERSALS {
+            for (traversal, path) in TRAVERSALS
+                .into_iter()
+                .flat_map(|t| paths.each().map(move |p| (t, p)))
+            {
                 let accel = built.clone().with_traversal(traversal);
-                let what =
-                    format!("{name} {kind:?} {quality:?} leaf {max_leaf_size} {traversal:?}");
+                let what = format!(
+                    "{name} {kind:?} {quality:?} leaf {max_leaf_size} {traversal:?} {}",
+                    path.name()
+                );
                 for (i, (r, (hit, occ))) in rays.iter().zip(&expected).enumerate() {
                     let got = closest(&accel, g, r);
                     assert!(

@@ -299,6 +299,7 @@ fn every_accelerator_and_traversal_returns_brute_forces_hits_bit_for_bit() {
         let want: Vec<_> = rays.iter().map(|r| bits(&hits(&brute, r))).collect();
         let found: usize = want.iter().map(Vec::len).sum();
         assert!(found > 50, "{name}: only {found} hits");
+        let paths = crate::common::simd::simd_paths(&format!("all hits, {name}"));
         for kind in AccelKind::ALL {
             for leaf in [1, kind.default_leaf_size()] {
                 let opts = BuildOptions {
@@ -308,12 +309,15 @@ fn every_accelerator_and_traversal_returns_brute_forces_hits_bit_for_bit() {
                 let built = World::build(s.clone(), kind, &opts);
                 for t in traversals {
                     let w = built.clone().with_traversal(t);
-                    for (r, want) in rays.iter().zip(&want) {
-                        assert_eq!(
-                            &bits(&hits(&w, r)),
-                            want,
-                            "{name}: {kind:?} leaf {leaf} {t:?} ray {r:?}"
-                        );
+                    for path in paths.each() {
+                        for (r, want) in rays.iter().zip(&want) {
+                            assert_eq!(
+                                &bits(&hits(&w, r)),
+                                want,
+                                "{name}: {kind:?} leaf {leaf} {t:?} {} ray {r:?}",
+                                path.name()
+                            );
+                        }
                     }
                 }
             }

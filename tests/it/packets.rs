@@ -6,8 +6,8 @@
 
 use crate::common;
 
-use common::{Rng, brute, closest, rays, same_hit, scene_box, scenes};
-use lumis_core::accel::{Accel, AccelKind, BuildOptions, BuildQuality, PACKET, Traced};
+use common::{Rng, brute, closest, rays, same_hit, scene_box, scenes, simd};
+use lumis_core::accel::{Accel, AccelKind, BuildOptions, BuildQuality, PACKET, SimdPath, Traced};
 use lumis_core::geometry::{Geometry, Precision};
 use lumis_core::math::{Ray, Vec3};
 
@@ -82,15 +82,27 @@ fn check_scene(name: &str, g: &Geometry, seed: u64, packets: usize) -> usize {
 
 #[test]
 fn packets_agree_with_single_rays_and_brute_force() {
-    let mut walked = 0;
-    walked += check_scene("uniform", &scenes::uniform(1, 300, 700), 61, 600);
-    walked += check_scene("clustered", &scenes::clustered(4, 300, 900), 62, 600);
-    walked += check_scene("tessellated", &scenes::tessellated(6), 63, 600);
-    walked += check_scene("duplicates", &scenes::duplicates(51).0, 64, 400);
-    walked += check_scene("flat", &scenes::flat_axis_aligned(45), 65, 300);
-    walked += check_scene("single triangle", &scenes::single_triangle(), 66, 100);
-    // Most packets share a walk (wide ones whose directions straddle an axis do not).
-    assert!(walked > 3_000, "only {walked} packets were walked together");
+    let paths = simd::simd_paths("packets");
+    for path in paths.each() {
+        let mut walked = 0;
+        walked += check_scene("uniform", &scenes::uniform(1, 300, 700), 61, 600);
+        walked += check_scene("clustered", &scenes::clustered(4, 300, 900), 62, 600);
+        walked += check_scene("tessellated", &scenes::tessellated(6), 63, 600);
+        walked += check_scene("duplicates", &scenes::duplicates(51).0, 64, 400);
+        walked += check_scene("flat", &scenes::flat_axis_aligned(45), 65, 300);
+        walked += check_scene("single triangle", &scenes::single_triangle(), 66, 100);
+        if path == SimdPath::Scalar {
+            // Without SIMD every packet goes one ray at a time.
+            assert_eq!(walked, 0, "scalar: {walked} packets were walked together");
+        } else {
+            // Most packets share a walk (wide ones whose directions straddle an axis do not).
+            assert!(
+                walked > 3_000,
+                "{}: only {walked} packets were walked together",
+                path.name()
+            );
+        }
+    }
 }
 
 #[test]

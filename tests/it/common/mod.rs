@@ -15,6 +15,7 @@ pub mod hostile;
 pub mod rays;
 pub mod render;
 pub mod scenes;
+pub mod simd;
 
 use lumis_core::accel::{Accel, AccelKind, BuildOptions, Hit, TraversalStats};
 use lumis_core::geometry::{Geometry, Precision, WatertightRay};

@@ -91,15 +91,19 @@ fn the_batch_walk_enters_instances_as_the_one_ray_walk_and_brute_force() {
     let world = World::build(scene.clone(), AccelKind::Sah, &BuildOptions::default());
     let brute = World::build(scene, AccelKind::Brute, &BuildOptions::default());
     let rows = rows(&world, 6000);
-    let one = records::<1>(&world, &rows);
     let want = records::<1>(&brute, &rows);
-    for (name, got) in [
-        ("in flight", records::<IN_FLIGHT>(&world, &rows)),
-        ("3 in flight", records::<3>(&world, &rows)),
-        ("one at a time", one.clone()),
-    ] {
-        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-            assert_eq!(g, w, "{name}: ray {i} {:?}", rows[i]);
+    let paths = crate::common::simd::simd_paths("batch walk over instances");
+    let mut one = Vec::new();
+    for path in paths.each() {
+        one = records::<1>(&world, &rows);
+        for (name, got) in [
+            ("in flight", records::<IN_FLIGHT>(&world, &rows)),
+            ("3 in flight", records::<3>(&world, &rows)),
+            ("one at a time", one.clone()),
+        ] {
+            for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert_eq!(g, w, "{name} {}: ray {i} {:?}", path.name(), rows[i]);
+            }
         }
     }
     let on_instances = one.iter().filter(|r| r.instance.is_some()).count();

@@ -7,7 +7,7 @@
 use super::fixtures::{add_prototype, placements};
 use crate::common::Rng;
 use glam::{DAffine3, DQuat, DVec3};
-use lumis_core::accel::{AccelKind, BuildOptions, PACKET, Traced};
+use lumis_core::accel::{AccelKind, BuildOptions, PACKET, SimdPath, Traced};
 use lumis_core::batch::{HitRecord, IN_FLIGHT, RayRow, trace_nearest_into};
 use lumis_core::geometry::Precision;
 use lumis_core::material::Material;
@@ -127,6 +127,23 @@ fn one_instance_answers_as_brute_force_over_instances() {
 
 #[test]
 fn packets_into_one_instance_answer_as_single_rays() {
+    let paths = crate::common::simd::simd_paths("packets into one instance");
+    for path in paths.each() {
+        let walked = packets_into_one_instance(path.name());
+        // Without SIMD only packets that miss the instance's box are answered together.
+        if path != SimdPath::Scalar {
+            assert!(
+                walked > 1000,
+                "{}: only {walked} packets walked together",
+                path.name()
+            );
+        }
+    }
+}
+
+/// Checks packets into every placement on the path in force (`path` names it); returns how
+/// many were walked together.
+fn packets_into_one_instance(path: &str) -> usize {
     let mut walked = 0;
     for (k, placement) in one_placements().into_iter().enumerate() {
         let world = World::build(one(placement, 1), AccelKind::Sah, &BuildOptions::default());
@@ -166,12 +183,15 @@ fn packets_into_one_instance_answer_as_single_rays() {
                     "placement {k}: ray {ray:?}"
                 );
                 if together {
-                    assert_eq!(out[i], alone, "placement {k} packet {p}: ray {i} {ray:?}");
+                    assert_eq!(
+                        out[i], alone,
+                        "{path}: placement {k} packet {p}: ray {i} {ray:?}"
+                    );
                 }
             }
         }
     }
-    assert!(walked > 1000, "only {walked} packets walked together");
+    walked
 }
 
 #[test]

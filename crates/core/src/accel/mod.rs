@@ -35,7 +35,7 @@ pub use crate::geometry::frame::{Framing, Moved, NEAR_FACTOR, RayFrame};
 pub use query::Traced;
 pub use segments::{PAPER_SEGMENT_MAX, SegmentParams};
 
-pub use wide::{LEAF_ALIGN, PACKET, PADDING, Wide8, WideBvh, WideNode};
+pub use wide::{LEAF_ALIGN, PACKET, PADDING, SimdPath, Wide8, WideBvh, WideNode};
 
 use std::sync::Arc;
 

@@ -10,6 +10,7 @@
 //! answers stay those of brute force. Every other ray (a zero or extreme component) goes
 //! through [`LaneByLane`], which applies the scalar slab test the ray needs to each lane.
 
+use super::walk::{Entry, Stack, push_entered};
 use super::{EMPTY_LANE, WideNode};
 use crate::accel::bvh::CullBound;
 use crate::math::slab::Slab;
@@ -24,6 +25,19 @@ pub(crate) trait ChildTest<const W: usize>: Copy {
     #[inline(always)]
     fn cull_bound(&self, ray: &Ray, root: &Aabb) -> CullBound {
         CullBound::new(ray, root)
+    }
+
+    /// Pushes the entered lanes (`mask`) of `node` farthest first and returns the nearest, to
+    /// visit next ([`push_entered`]; tests with faster instructions for it override this).
+    #[inline(always)]
+    fn push_entered<const N: usize>(
+        &self,
+        node: &WideNode<W>,
+        mask: u32,
+        near: &[f32; W],
+        stack: &mut Stack<N>,
+    ) -> Option<Entry> {
+        push_entered(node, mask, near, stack)
     }
 }
 
@@ -54,13 +68,13 @@ impl<const W: usize, S: Slab> ChildTest<W> for LaneByLane<S> {
 /// the plane the ray enters by and the one it leaves by.
 #[derive(Clone, Copy)]
 pub(crate) struct Octant {
-    origin: [f32; 3],
-    inv: [f32; 3],
+    pub(super) origin: [f32; 3],
+    pub(super) inv: [f32; 3],
     /// Byte offsets into [`WideNode::planes`] of the entry and exit plane rows of x, y, z (an
     /// offset each, ready to add to the node's address: the batch walk reloads them at every
     /// node, where a plane index cost a bounds check or a shift and a flip per axis).
     /// Invariant: each is `32 * row` for a row below 6.
-    row_bytes: [u32; 6],
+    pub(super) row_bytes: [u32; 6],
 }
 
 impl Octant {
@@ -90,7 +104,8 @@ impl Octant {
     }
 }
 
-/// The 8-lane test in AVX2 registers. Only constructed once the CPU is known to have AVX2.
+/// The 8-lane test in AVX2 registers. Only constructed once the CPU is known to have AVX2
+/// ([`super::SimdPath::Avx2`] or wider).
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 pub(crate) struct Avx2(pub Octant);
@@ -152,33 +167,4 @@ pub(super) fn entered(
     // SAFETY: `out` holds 8 f32.
     unsafe { _mm256_storeu_ps(out.as_mut_ptr(), near) };
     (mask, out)
-}
-
-/// True when the AVX2 walk may be used (detected once and cached here): AVX2
-/// and the bit instructions every AVX2 CPU has (without `popcnt` the entered-lane count was a
-/// five-instruction multiply trick on every node).
-#[inline(always)]
-pub(crate) fn has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::sync::atomic::{AtomicU8, Ordering};
-        // 0: not yet detected, 1: absent, 2: present. One load per query instead of five.
-        static DETECTED: AtomicU8 = AtomicU8::new(0);
-        match DETECTED.load(Ordering::Relaxed) {
-            0 => {
-                let present = std::arch::is_x86_feature_detected!("avx2")
-                    && std::arch::is_x86_feature_detected!("bmi1")
-                    && std::arch::is_x86_feature_detected!("bmi2")
-                    && std::arch::is_x86_feature_detected!("lzcnt")
-                    && std::arch::is_x86_feature_detected!("popcnt");
-                DETECTED.store(1 + present as u8, Ordering::Relaxed);
-                present
-            }
-            d => d == 2,
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
 }

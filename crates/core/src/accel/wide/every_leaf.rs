@@ -7,9 +7,9 @@
 //! the rest of the level is walked meanwhile, so the prefetches land (the loads of nodes and
 //! leaf groups were a third of the all-hits walk's time, perf, 69k bunny).
 
-use super::WideBvh;
-use super::child_test::{ChildTest, LaneByLane};
+use super::child_test::{ChildTest, LaneByLane, Octant};
 use super::walk::prefetch_children;
+use super::{SimdPath, WideBvh};
 use crate::accel::TraversalStats;
 use crate::accel::leaves::AnyLeaves;
 use crate::math::slab::{SlabF32, SlabF64, SlabKind};
@@ -31,10 +31,13 @@ impl WideBvh<8> {
         leaves: &mut L,
         queue: &mut LevelQueue,
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if super::child_test::has_avx2() {
-            // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
-            return unsafe { self.each_leaf_avx2(ray, stats, leaves, queue) };
+        match SimdPath::active() {
+            // SAFETY: the CPU has what each path needs (`SimdPath::active`).
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx512 => return unsafe { self.each_leaf_avx512(ray, stats, leaves, queue) },
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx2 => return unsafe { self.each_leaf_avx2(ray, stats, leaves, queue) },
+            _ => {}
         }
         let inv = safe_inverse(ray.dir);
         match SlabKind::with_inverse(ray, inv) {
@@ -62,11 +65,37 @@ impl WideBvh<8> {
         leaves: &mut L,
         queue: &mut LevelQueue,
     ) {
-        use super::child_test::{Avx2, Octant};
+        self.each_leaf_simd(super::child_test::Avx2, ray, stats, leaves, queue)
+    }
+
+    /// The whole walk compiled for AVX-512.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl")]
+    unsafe fn each_leaf_avx512<L: AnyLeaves>(
+        &self,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        leaves: &mut L,
+        queue: &mut LevelQueue,
+    ) {
+        self.each_leaf_simd(super::avx512::Avx512, ray, stats, leaves, queue)
+    }
+
+    /// The walk with the SIMD child test `simd` makes for ordinary rays.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn each_leaf_simd<T: ChildTest<8>, L: AnyLeaves>(
+        &self,
+        simd: impl Fn(Octant) -> T,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        leaves: &mut L,
+        queue: &mut LevelQueue,
+    ) {
         let inv = safe_inverse(ray.dir);
         match SlabKind::with_inverse(ray, inv) {
             SlabKind::Finite => {
-                let test = Avx2(Octant::new(ray, inv.to_array()));
+                let test = simd(Octant::new(ray, inv.to_array()));
                 self.each_leaf_with(test, ray, stats, leaves, queue)
             }
             SlabKind::AxisParallel => {

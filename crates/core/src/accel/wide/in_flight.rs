@@ -8,9 +8,10 @@
 //! top level of instances, a ray enters each instance its leaf tests meet as more steps of its
 //! own ([`super::inside`]), with the answer the one-ray walk's nested query gives.
 
-use super::WideBvh;
+use super::child_test::{ChildTest, Octant};
 use super::inside::{Entered, Inside, walking};
 use super::nearest::{NearestStack, NearestWalk};
+use super::{SimdPath, WideBvh};
 use crate::accel::leaves::ClosestLeaves;
 use crate::accel::{Hit, TraversalStats};
 use crate::math::Ray;
@@ -62,15 +63,19 @@ impl WideBvh<8> {
         queries: &mut Q,
         stats: &mut TraversalStats,
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if K > 1 && super::child_test::has_avx2() {
-            // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
-            return unsafe { self.in_flight_avx2::<K, Q>(queries, stats) };
-        }
-        while let Some((id, ray, mut leaves)) = queries.next(stats) {
-            Q::alone(&mut leaves);
-            let hit = self.intersect(&ray, stats, &mut leaves);
-            queries.answer(id, &ray, hit, &leaves);
+        match SimdPath::active() {
+            // SAFETY: the CPU has what each path needs (`SimdPath::active`).
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx512 if K > 1 => unsafe { self.in_flight_avx512::<K, Q>(queries, stats) },
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx2 if K > 1 => unsafe { self.in_flight_avx2::<K, Q>(queries, stats) },
+            _ => {
+                while let Some((id, ray, mut leaves)) = queries.next(stats) {
+                    Q::alone(&mut leaves);
+                    let hit = self.intersect(&ray, stats, &mut leaves);
+                    queries.answer(id, &ray, hit, &leaves);
+                }
+            }
         }
     }
 
@@ -82,17 +87,46 @@ impl WideBvh<8> {
         queries: &mut Q,
         stats: &mut TraversalStats,
     ) {
+        self.in_flight_simd::<K, Q, _, _>(super::child_test::Avx2, queries, stats)
+    }
+
+    /// The interleaved walks, compiled for AVX-512 like the one-ray walk.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl")]
+    unsafe fn in_flight_avx512<'a, const K: usize, Q: NearestQueries<'a>>(
+        &self,
+        queries: &mut Q,
+        stats: &mut TraversalStats,
+    ) {
+        self.in_flight_simd::<K, Q, _, _>(super::avx512::Avx512, queries, stats)
+    }
+
+    /// The interleaved walks with the SIMD child test `simd` makes.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn in_flight_simd<
+        'a,
+        const K: usize,
+        Q: NearestQueries<'a>,
+        T: ChildTest<8>,
+        F: Fn(Octant) -> T + Copy,
+    >(
+        &self,
+        simd: F,
+        queries: &mut Q,
+        stats: &mut TraversalStats,
+    ) {
         // Lane by lane: an array constant was copied whole, unused stack space included.
-        let mut lanes: [Lane<'a, Q>; K] = std::array::from_fn(|_| Lane {
+        let mut lanes: [Lane<'a, Q, T>; K] = std::array::from_fn(|_| Lane {
             stack: NearestStack::new(),
             ray: None,
         });
         let mut live = 0;
         for lane in &mut lanes {
-            live += self.start_next(queries, lane, stats) as usize;
+            live += self.start_next(simd, queries, lane, stats) as usize;
         }
         if Q::ENTERS_INSTANCES {
-            return self.two_level_in_flight(&mut lanes, live, queries, stats);
+            return self.two_level_in_flight(simd, &mut lanes, live, queries, stats);
         }
         while live > 0 {
             for lane in &mut lanes {
@@ -110,7 +144,7 @@ impl WideBvh<8> {
                     continue;
                 }
                 queries.answer(r.id, &r.ray, r.walk.best(), &r.leaves);
-                live -= !self.start_next(queries, lane, stats) as usize;
+                live -= !self.start_next(simd, queries, lane, stats) as usize;
             }
         }
     }
@@ -120,9 +154,16 @@ impl WideBvh<8> {
     /// instances is unchanged).
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn two_level_in_flight<'a, const K: usize, Q: NearestQueries<'a>>(
+    fn two_level_in_flight<
+        'a,
+        const K: usize,
+        Q: NearestQueries<'a>,
+        T: ChildTest<8>,
+        F: Fn(Octant) -> T + Copy,
+    >(
         &self,
-        lanes: &mut [Lane<'a, Q>; K],
+        simd: F,
+        lanes: &mut [Lane<'a, Q, T>; K],
         mut live: usize,
         queries: &mut Q,
         stats: &mut TraversalStats,
@@ -138,23 +179,23 @@ impl WideBvh<8> {
                 }
                 queries.answer(r.id, &r.ray, r.walk.best(), &r.leaves);
                 inside.top_done = false;
-                live -= !self.start_next(queries, lane, stats) as usize;
+                live -= !self.start_next(simd, queries, lane, stats) as usize;
             }
         }
     }
 
-    /// The walk of the next ray that takes the AVX2 child test, started on `stack`. Rays
+    /// The walk of the next ray that takes the SIMD child test, started on `stack`. Rays
     /// that need another test (a zero or extreme direction component) are rare: they are
     /// walked whole, one at a time, on the way.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn start_next<'a, Q: NearestQueries<'a>>(
+    fn start_next<'a, Q: NearestQueries<'a>, T: ChildTest<8>, F: Fn(Octant) -> T + Copy>(
         &self,
+        simd: F,
         queries: &mut Q,
-        lane: &mut Lane<'a, Q>,
+        lane: &mut Lane<'a, Q, T>,
         stats: &mut TraversalStats,
     ) -> bool {
-        use super::child_test::{Avx2, Octant};
         use crate::math::safe_inverse;
         use crate::math::slab::SlabKind;
         loop {
@@ -162,10 +203,10 @@ impl WideBvh<8> {
                 lane.ray = None;
                 return false;
             };
-            // As `intersect_avx2` chooses, so the walk is the one-ray walk's.
+            // As the one-ray walk chooses, so the walk is the one-ray walk's.
             let inv = safe_inverse(ray.dir);
             if let SlabKind::Finite = SlabKind::with_inverse(&ray, inv) {
-                let test = Avx2(Octant::new(&ray, inv.to_array()));
+                let test = simd(Octant::new(&ray, inv.to_array()));
                 match NearestWalk::start(self, test, &ray, &mut lane.stack) {
                     Some(walk) => {
                         // Written in place: a ray in flight is 400 bytes.
@@ -206,9 +247,9 @@ impl WideBvh<8> {
 /// One of the batch walk's places for a ray: the stack, which stays put (5 KB), and the ray
 /// in flight there, if any.
 #[cfg(target_arch = "x86_64")]
-struct Lane<'a, Q: NearestQueries<'a>> {
+struct Lane<'a, Q: NearestQueries<'a>, T> {
     stack: NearestStack,
-    ray: Option<InFlight<'a, Q>>,
+    ray: Option<InFlight<'a, Q, T>>,
 }
 
 /// A lane's walk inside the instance its ray is in, if any, with its own stack (kept apart
@@ -234,15 +275,15 @@ impl Default for InsideSlot<'_> {
 
 /// A ray in flight: its name, the ray, its tester and its walk.
 #[cfg(target_arch = "x86_64")]
-struct InFlight<'a, Q: NearestQueries<'a>> {
+struct InFlight<'a, Q: NearestQueries<'a>, T> {
     id: Q::Id,
     ray: Ray,
     leaves: Q::Leaves,
-    walk: NearestWalk<super::child_test::Avx2>,
+    walk: NearestWalk<T>,
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<'a, Q: NearestQueries<'a>> InFlight<'a, Q> {
+impl<'a, Q: NearestQueries<'a>, T: ChildTest<8>> InFlight<'a, Q, T> {
     /// Steps up to and including the next node visit (of either level), entering the
     /// instances each leaf test leaves, in order; true while the ray has more to visit.
     #[inline(always)]

@@ -1,6 +1,7 @@
 //! A wide bounding-volume hierarchy: the binary SAH tree collapsed into nodes of `W` children
 //! whose boxes are stored structure-of-arrays, so one SIMD slab test decides all of them at
-//! once. The renderer uses `W = 8` with AVX2 (4 lanes with SSE measured slower, BENCHMARKS.md);
+//! once. The renderer uses `W = 8` with AVX2 or AVX-512 as the CPU has ([`SimdPath`]; 4 lanes
+//! with SSE measured slower, BENCHMARKS.md);
 //! the collapse, validation and lane-by-lane test are written for any width up to 8.
 //!
 //! A child lane is an interior node (index into `nodes`), a leaf (a range of `prim_order`), or
@@ -9,6 +10,8 @@
 //! differ, and they are culled with the same conservative bound as the binary traversal
 //! ([`super::bvh::CullBound`]), which keeps every answer identical to brute force.
 
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 mod binary;
 mod child_test;
 mod every_leaf;
@@ -17,6 +20,7 @@ pub(crate) mod inside;
 mod lanes;
 mod nearest;
 mod packet;
+mod simd_path;
 mod traverse;
 mod walk;
 
@@ -26,6 +30,7 @@ pub(crate) use inside::{Entered, Inside};
 pub(crate) use nearest::NearestStack;
 
 pub use packet::PACKET;
+pub use simd_path::SimdPath;
 
 use super::bvh::{Bvh, MAX_DEPTH, Node, each_once, leaf_content};
 use crate::math::{Aabb, Vec3};

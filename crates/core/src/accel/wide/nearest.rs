@@ -10,7 +10,7 @@
 
 use super::WideBvh;
 use super::child_test::ChildTest;
-use super::walk::{STACK, Stack, prefetch_children, push_entered};
+use super::walk::{STACK, Stack, prefetch_children};
 use crate::accel::bvh::CullBound;
 use crate::accel::leaves::ClosestLeaves;
 use crate::accel::{Closest, Hit, TraversalStats};
@@ -116,7 +116,7 @@ impl<T> NearestWalk<T> {
             stats.nodes_visited += 1;
             let (mask, near) = self.child_test.test(node, self.t_min, self.t_far);
             prefetch_children(&bvh.nodes, node, mask, &*leaves);
-            if let Some(next) = push_entered(node, mask, &near, stack) {
+            if let Some(next) = self.child_test.push_entered(node, mask, &near, stack) {
                 (self.child, self.count) = (next.child, next.count);
                 return true;
             }

@@ -14,8 +14,8 @@
 //! differing within the packet, a zero or extreme component) are refused: the caller walks
 //! them one at a time.
 
-use super::WideBvh;
 use super::walk::{Entry, STACK, Stack, prefetch_children, push_entered};
+use super::{SimdPath, WideBvh};
 use crate::accel::bvh::CullBound;
 use crate::accel::leaves::ClosestLeaves;
 use crate::accel::{Closest, Hit, TraversalStats};
@@ -84,18 +84,52 @@ impl WideBvh<8> {
         out: &mut [Option<Hit>],
     ) -> bool {
         debug_assert!(rays.len() <= PACKET && testers.len() >= rays.len());
-        #[cfg(target_arch = "x86_64")]
-        if super::child_test::has_avx2() && !self.nodes.is_empty() && rays.len() > 1 {
-            // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
-            return unsafe { self.packet_avx2(rays, stats, testers, out) };
+        if self.nodes.is_empty() || rays.len() < 2 {
+            return false;
         }
-        let _ = (rays, stats, testers, out);
-        false
+        match SimdPath::active() {
+            // SAFETY: the CPU has what each path needs (`SimdPath::active`).
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx512 => unsafe { self.packet_avx512(rays, stats, testers, out) },
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx2 => unsafe { self.packet_avx2(rays, stats, testers, out) },
+            _ => false,
+        }
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn packet_avx2<L: ClosestLeaves>(
+        &self,
+        rays: &[Ray],
+        stats: &mut TraversalStats,
+        testers: &mut [L],
+        out: &mut [Option<Hit>],
+    ) -> bool {
+        // SAFETY: AVX2 and the bit instructions are present (this function's features).
+        unsafe { self.packet_simd::<false, L>(rays, stats, testers, out) }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl")]
+    unsafe fn packet_avx512<L: ClosestLeaves>(
+        &self,
+        rays: &[Ray],
+        stats: &mut TraversalStats,
+        testers: &mut [L],
+        out: &mut [Option<Hit>],
+    ) -> bool {
+        // SAFETY: AVX2, the bit instructions and AVX-512 F/VL are present (as above).
+        unsafe { self.packet_simd::<true, L>(rays, stats, testers, out) }
+    }
+
+    /// The packet walk, with the AVX-512 node test and child ordering when `AVX512`.
+    ///
+    /// # Safety
+    /// The CPU has AVX2 and the bit instructions, and AVX-512 F/VL when `AVX512`.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn packet_simd<const AVX512: bool, L: ClosestLeaves>(
         &self,
         rays: &[Ray],
         stats: &mut TraversalStats,
@@ -135,9 +169,19 @@ impl WideBvh<8> {
             if current.count == 0 {
                 let node = &self.nodes[current.child as usize];
                 stats.nodes_visited += 1;
-                let (mask, near) = frustum_test(&frustum, node, t_max);
-                prefetch_children(&self.nodes, node, mask, &testers[0]);
-                if let Some(next) = push_entered(node, mask, &near, &mut stack) {
+                // SAFETY: the CPU has what the path needs (the caller's promise).
+                let next = unsafe {
+                    if AVX512 {
+                        let (mask, near) = frustum_test::<true>(&frustum, node, t_max);
+                        prefetch_children(&self.nodes, node, mask, &testers[0]);
+                        super::avx512::push_ranked(node, mask, &near, &mut stack)
+                    } else {
+                        let (mask, near) = frustum_test::<false>(&frustum, node, t_max);
+                        prefetch_children(&self.nodes, node, mask, &testers[0]);
+                        push_entered(node, mask, &near, &mut stack)
+                    }
+                };
+                if let Some(next) = next {
                     current = next;
                     continue;
                 }
@@ -171,11 +215,37 @@ impl WideBvh<8> {
 
 /// The packet's test of all children of `node`: a lane is entered when the smallest entry of
 /// any ray (per axis, at an end of the reciprocal interval) is below the largest exit, widened
-/// and clamped as the single-ray test widens and clamps (to the loosest bound, `t_max`).
+/// and clamped as the single-ray test widens and clamps (to the loosest bound, `t_max`);
+/// the lanes from an AVX-512 mask compare when `AVX512`.
+///
+/// # Safety
+/// The CPU has AVX2 and the bit instructions, and AVX-512 F/VL when `AVX512`.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline(always)]
+unsafe fn frustum_test<const AVX512: bool>(
+    f: &Frustum,
+    node: &super::WideNode<8>,
+    t_max: f32,
+) -> (u32, [f32; 8]) {
+    // SAFETY: the caller's promise.
+    unsafe {
+        let axes = frustum_axes(f, node);
+        if AVX512 {
+            super::avx512::entered(axes, f.t_min, t_max)
+        } else {
+            super::child_test::entered(axes, f.t_min, t_max)
+        }
+    }
+}
+
+/// Per axis, the smallest entry and largest exit of the packet's rays into each lane's box.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
 #[inline]
-fn frustum_test(f: &Frustum, node: &super::WideNode<8>, t_max: f32) -> (u32, [f32; 8]) {
+fn frustum_axes(
+    f: &Frustum,
+    node: &super::WideNode<8>,
+) -> [(std::arch::x86_64::__m256, std::arch::x86_64::__m256); 3] {
     use std::arch::x86_64::*;
     let p = &node.planes;
     // SAFETY: each plane row is 8 contiguous f32 (unaligned loads).
@@ -190,5 +260,5 @@ fn frustum_test(f: &Frustum, node: &super::WideNode<8>, t_max: f32) -> (u32, [f3
         let far = _mm256_max_ps(_mm256_mul_ps(d_far, lo), _mm256_mul_ps(d_far, hi));
         (near, far)
     };
-    super::child_test::entered([axis(0), axis(1), axis(2)], f.t_min, t_max)
+    [axis(0), axis(1), axis(2)]
 }

@@ -1,8 +1,9 @@
 //! Walking the wide hierarchy one ray at a time: the child test each ray needs, chosen once
 //! per ray, then the nearest hit front to back ([`super::nearest`]) or any hit.
 
+use super::SimdPath;
 use super::WideBvh;
-use super::child_test::{ChildTest, LaneByLane, Octant, has_avx2};
+use super::child_test::{ChildTest, LaneByLane, Octant};
 use super::walk::{Entry, STACK, Stack, prefetch_children};
 use crate::accel::leaves::{AnyLeaves, ClosestLeaves};
 use crate::accel::{Hit, TraversalStats};
@@ -45,13 +46,15 @@ impl WideBvh<8> {
         stats: &mut TraversalStats,
         test: &mut L,
     ) -> Option<Hit> {
-        #[cfg(target_arch = "x86_64")]
-        if has_avx2() {
-            // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
-            return unsafe { self.intersect_avx2(ray, stats, test) };
+        match SimdPath::active() {
+            // SAFETY: the CPU has what each path needs (`SimdPath::active`).
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx512 => unsafe { self.intersect_avx512(ray, stats, test) },
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx2 => unsafe { self.intersect_avx2(ray, stats, test) },
+            _ => with_child_test!(self, ray, |_| None::<LaneByLane<SlabF32<false>>>, |t| self
+                .intersect_with(t, ray, stats, test)),
         }
-        with_child_test!(self, ray, |_| None::<LaneByLane<SlabF32<false>>>, |t| self
-            .intersect_with(t, ray, stats, test))
     }
 
     /// The whole walk compiled for AVX2, so the node test and the primitive test inline into it.
@@ -63,22 +66,32 @@ impl WideBvh<8> {
         stats: &mut TraversalStats,
         test: &mut L,
     ) -> Option<Hit> {
-        use super::child_test::Avx2;
-        let inv = safe_inverse(ray.dir);
-        match SlabKind::with_inverse(ray, inv) {
-            SlabKind::Finite => {
-                self.intersect_with(Avx2(Octant::new(ray, inv.to_array())), ray, stats, test)
-            }
-            SlabKind::AxisParallel => self.intersect_with(
-                LaneByLane(SlabF32::<true>::with_inverse(ray, inv)),
-                ray,
-                stats,
-                test,
-            ),
-            SlabKind::Wide => {
-                self.intersect_with(LaneByLane(SlabF64::for_ray(ray)), ray, stats, test)
-            }
-        }
+        self.intersect_simd(super::child_test::Avx2, ray, stats, test)
+    }
+
+    /// The whole walk compiled for AVX-512 (32 vector registers, mask compares).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl")]
+    unsafe fn intersect_avx512<L: ClosestLeaves>(
+        &self,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        test: &mut L,
+    ) -> Option<Hit> {
+        self.intersect_simd(super::avx512::Avx512, ray, stats, test)
+    }
+
+    /// The nearest-hit walk with the SIMD child test `simd` makes for ordinary rays.
+    #[inline(always)]
+    fn intersect_simd<T: ChildTest<8>, L: ClosestLeaves>(
+        &self,
+        simd: impl Fn(Octant) -> T,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        test: &mut L,
+    ) -> Option<Hit> {
+        with_child_test!(self, ray, |o| Some(simd(o)), |t| self
+            .intersect_with(t, ray, stats, test))
     }
 
     /// True when anything blocks `ray`; stops at the first blocker.
@@ -89,13 +102,15 @@ impl WideBvh<8> {
         stats: &mut TraversalStats,
         mut test: L,
     ) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if has_avx2() {
-            // SAFETY: AVX2 and the bit instructions are present (`has_avx2`).
-            return unsafe { self.occluded_avx2(ray, stats, &mut test) };
+        match SimdPath::active() {
+            // SAFETY: the CPU has what each path needs (`SimdPath::active`).
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx512 => unsafe { self.occluded_avx512(ray, stats, &mut test) },
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx2 => unsafe { self.occluded_avx2(ray, stats, &mut test) },
+            _ => with_child_test!(self, ray, |_| None::<LaneByLane<SlabF32<false>>>, |t| self
+                .occluded_with(t, ray, stats, &mut test)),
         }
-        with_child_test!(self, ray, |_| None::<LaneByLane<SlabF32<false>>>, |t| self
-            .occluded_with(t, ray, stats, &mut test))
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -106,22 +121,22 @@ impl WideBvh<8> {
         stats: &mut TraversalStats,
         test: &mut L,
     ) -> bool {
-        use super::child_test::Avx2;
-        let inv = safe_inverse(ray.dir);
-        match SlabKind::with_inverse(ray, inv) {
-            SlabKind::Finite => {
-                self.occluded_with(Avx2(Octant::new(ray, inv.to_array())), ray, stats, test)
-            }
-            SlabKind::AxisParallel => self.occluded_with(
-                LaneByLane(SlabF32::<true>::with_inverse(ray, inv)),
-                ray,
-                stats,
-                test,
-            ),
-            SlabKind::Wide => {
-                self.occluded_with(LaneByLane(SlabF64::for_ray(ray)), ray, stats, test)
-            }
-        }
+        let simd = super::child_test::Avx2;
+        with_child_test!(self, ray, |o| Some(simd(o)), |t| self
+            .occluded_with(t, ray, stats, test))
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl")]
+    unsafe fn occluded_avx512<L: AnyLeaves>(
+        &self,
+        ray: &Ray,
+        stats: &mut TraversalStats,
+        test: &mut L,
+    ) -> bool {
+        let simd = super::avx512::Avx512;
+        with_child_test!(self, ray, |o| Some(simd(o)), |t| self
+            .occluded_with(t, ray, stats, test))
     }
 }
 

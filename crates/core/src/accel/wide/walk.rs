@@ -10,7 +10,7 @@ use crate::accel::leaves::{Prefetch, prefetch_lines};
 /// A child still to visit: what [`WideNode::child`] and [`WideNode::count`] hold for it, and
 /// the ray's conservative entry distance into its box.
 #[derive(Clone, Copy)]
-pub(super) struct Entry {
+pub(crate) struct Entry {
     pub(super) child: u32,
     pub(super) count: u32,
     pub(super) near: f32,
@@ -42,6 +42,23 @@ impl<const N: usize> Stack<N> {
     pub(super) fn push(&mut self, e: Entry) {
         self.items[self.len] = MaybeUninit::new(e);
         self.len += 1;
+    }
+
+    /// Writes `e` into the slot `above` places above the top, without pushing it: entries
+    /// put in their order at once, then pushed together by [`Self::raise`].
+    #[inline(always)]
+    pub(super) fn put_above(&mut self, above: usize, e: Entry) {
+        self.items[self.len + above] = MaybeUninit::new(e);
+    }
+
+    /// Pushes the `n` entries put above the top.
+    ///
+    /// # Safety
+    /// Each of the `n` slots above the top was written by [`Self::put_above`] since the
+    /// last push or pop.
+    #[inline(always)]
+    pub(super) unsafe fn raise(&mut self, n: usize) {
+        self.len += n;
     }
 
     #[inline(always)]
