@@ -285,6 +285,17 @@ fn repeat_and_rebuild_run_again_and_timings_list_each_run() {
     for key in ["prims", "geometry_bytes", "accel_bytes"] {
         assert!(parsed[key].as_u64().is_some_and(|n| n > 0), "{key}: {json}");
     }
+    let parts = ["nodes", "leaf_order", "packed"].map(|k| {
+        parsed["accel_parts"][k]
+            .as_u64()
+            .unwrap_or_else(|| panic!("accel_parts.{k}: {json}"))
+    });
+    assert!(parts.iter().all(|&n| n > 0), "{json}");
+    assert_eq!(
+        parts.iter().sum::<u64>(),
+        parsed["accel_bytes"].as_u64().unwrap(),
+        "the parts make up the whole: {json}"
+    );
     assert_eq!(runs.len(), 3, "{json}");
     assert!(runs.iter().all(|&s| s >= 0.0 && s.is_finite()), "{json}");
     let builds = parsed["build_runs_s"]

@@ -87,7 +87,7 @@ pub struct HitsArgs {
     rebuild: u32,
     /// Write the phase times and sizes as JSON: {"rays", "load_s", "build_s" (the first build),
     /// "build_runs_s": [one per build], "trace_s": [one per run], "prims", "geometry_bytes",
-    /// "accel_bytes", "sah_cost"}.
+    /// "accel_bytes", "accel_parts": {"nodes", "leaf_order", "packed"}, "sah_cost"}.
     #[arg(long)]
     timings: Option<PathBuf>,
 }
@@ -177,6 +177,7 @@ pub fn run(args: &HitsArgs) -> Result<()> {
         stage_rows(&mut staged, path, &sphere_rows(world.scene()))?;
     }
     if let Some(path) = &args.timings {
+        let memory = world.accel().memory();
         let json = serde_json::json!({
             "rays": rays.len(),
             "load_s": load_s,
@@ -186,6 +187,11 @@ pub fn run(args: &HitsArgs) -> Result<()> {
             "prims": world.scene().geometry().prims().len(),
             "geometry_bytes": world.scene().geometry().bytes(),
             "accel_bytes": world.accel().bytes(),
+            "accel_parts": {
+                "nodes": memory.nodes,
+                "leaf_order": memory.leaf_order,
+                "packed": memory.packed,
+            },
             "sah_cost": world.accel().sah_cost(),
         });
         staged.stage_bytes(path, format!("{json}\n").as_bytes())?;

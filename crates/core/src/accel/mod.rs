@@ -44,6 +44,25 @@ use crate::math::{Aabb, Ray};
 pub use packed::PackedLeaves;
 pub(crate) use packed::{NO_SLOT, PackedContacts, PackedWatertight};
 
+/// The bytes an accelerator holds, by part ([`Accel::memory`]): the scene's own vertex and
+/// index arrays are not among them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AccelMemory {
+    /// The nodes and whatever is kept per node beside them.
+    pub nodes: usize,
+    /// The primitive index of every leaf slot, padding included.
+    pub leaf_order: usize,
+    /// The triangles copied in leaf order ([`PackedLeaves`]).
+    pub packed: usize,
+}
+
+impl AccelMemory {
+    /// All parts together.
+    pub fn total(&self) -> usize {
+        self.nodes + self.leaf_order + self.packed
+    }
+}
+
 /// Which acceleration structure to build.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AccelKind {
@@ -318,13 +337,21 @@ impl Accel {
 
     /// Bytes of the hierarchy and of the packed leaves, for the bytes-per-primitive figure.
     pub fn bytes(&self) -> usize {
-        let binary = |b: &Bvh| std::mem::size_of_val(b.nodes()) + 4 * b.prim_order().len();
-        let structure = match &self.structure {
-            Structure::Brute(_) => 0,
-            Structure::Bvh(b) => binary(b),
-            Structure::Wide(w) => w.bytes(),
+        self.memory().total()
+    }
+
+    /// [`Accel::bytes`] by part.
+    pub fn memory(&self) -> AccelMemory {
+        let (nodes, leaf_order) = match &self.structure {
+            Structure::Brute(_) => (0, 0),
+            Structure::Bvh(b) => (std::mem::size_of_val(b.nodes()), 4 * b.prim_order().len()),
+            Structure::Wide(w) => (w.node_bytes(), 4 * w.prim_order().len()),
         };
-        structure + self.packed.as_ref().map_or(0, |p| p.bytes())
+        AccelMemory {
+            nodes,
+            leaf_order,
+            packed: self.packed.as_ref().map_or(0, |p| p.bytes()),
+        }
     }
 
     /// The expected cost of a ray through the wide hierarchy (see [`WideBvh::sah_cost`]), to

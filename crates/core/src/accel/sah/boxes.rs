@@ -148,4 +148,12 @@ impl Centroids {
             max: self.max.max(p),
         }
     }
+
+    #[inline(always)]
+    pub fn union(self, o: Self) -> Self {
+        Self {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
 }

@@ -156,3 +156,26 @@ fn the_fast_tree_costs_little_more_than_the_full_one() {
     let (full, fast) = (cost(BuildQuality::Full), cost(BuildQuality::Fast));
     assert!(fast < full * 1.03, "fast {fast} against full {full}");
 }
+
+/// The same bound on seeded random boxes (scattered, some long, overlapping), which no grid
+/// of clusters fits: the groups' full builds must make up for the clusters.
+#[test]
+fn the_fast_tree_costs_little_more_on_random_boxes() {
+    for seed in 0..3 {
+        let bounds = crate::accel::test_boxes::scattered(20_000, seed);
+        let cost = |quality| {
+            let opts = BuildOptions {
+                quality,
+                ..Default::default()
+            };
+            let bvh = build(&bounds, &[], &opts);
+            bvh.validate(&bounds).unwrap();
+            crate::accel::Wide8::collapse(&bvh).sah_cost()
+        };
+        let (full, fast) = (cost(BuildQuality::Full), cost(BuildQuality::Fast));
+        assert!(
+            fast < full * 1.03,
+            "seed {seed}: fast {fast} against full {full}"
+        );
+    }
+}

@@ -1,108 +1,143 @@
 //! The fast builder: primitives sorted in Morton order and cut into clusters of nearby ones
-//! ([`morton`]), a surface-area-heuristic top over the clusters' boxes, and inside each cluster
-//! the same binned/swept SAH builder as [`super::build`] (after Pantaleoni and Luebke's HLBVH,
-//! with SAH instead of Morton splits below the clusters).
+//! ([`morton`]), a surface-area-heuristic top over the clusters' boxes down to nodes of at most
+//! [`GROUP`] primitives, and each of those built by the same binned/swept SAH builder as
+//! [`super::build`] over all its primitives (after Pantaleoni and Luebke's HLBVH, with SAH
+//! instead of Morton splits).
 //!
 //! Why it is faster: the full builder bins and partitions every primitive at every level, about
-//! 18 levels on a million triangles; here the top levels cost one radix sort, and the clusters
-//! (at most [`CLUSTER`] primitives, so about six levels each) are built where their primitives
-//! already sit together in memory. What it gives up: a cluster is an octree cell, so no split
-//! above a cluster can cut through one. BENCHMARKS.md ("Build") measures both the speed and the
-//! SAH cost against the full builder.
+//! 18 levels on a million triangles; here the levels above the groups cost one radix sort and
+//! sweeps over cluster boxes, and each group (about eight levels) is built from a copy of its
+//! primitives small enough to stay in cache. What it gives up: above a group, a split cannot
+//! cut through a cluster (an octree cell); below, the clusters no longer constrain anything,
+//! which is why groups are several clusters large. BENCHMARKS.md ("Build") measures both the
+//! speed and the SAH cost against the full builder.
 
-use super::boxes::{Box3, Ref};
-use super::{Builder, Span, graft, morton, scan};
+use super::boxes::{Box3, Centroids, Ref};
+use super::{Builder, Span, Subtree, graft, morton};
 use crate::accel::BuildOptions;
 use crate::accel::bvh::{Bvh, Node};
 use crate::math::Aabb;
 use rayon::prelude::*;
 
-/// Largest cluster: small enough that building clusters costs few levels, large enough that
-/// the top (a sweep over every split of the clusters) stays cheap and cuts few good subtrees.
-const CLUSTER: usize = 256;
+/// Largest cluster: small enough that the top's splits come close to the full builder's, large
+/// enough that the top (a sweep over every split of the clusters) stays cheap.
+const CLUSTER: usize = 64;
 
 /// Top levels deeper than this split their clusters in half instead of by cost, so that
 /// degenerate input (every box the same) cannot build a chain as deep as it has clusters.
 const TOP_DEPTH: usize = 32;
 
+/// Top nodes of at most this many primitives (groups) are built by the full builder over all
+/// their primitives, across the cluster boundaries.
+const GROUP: usize = 1024;
+
 /// One cluster as the top sees it.
 struct Cluster {
     bounds: Box3,
+    centroids: Centroids,
     /// The centre of its box, per axis.
     centre: [f32; 3],
     /// The group lanes its primitives fill: the number of tests the cluster would cost as one leaf.
-    slots: f32,
+    slots: u32,
+    /// Its primitives: `start..end` of the Morton order.
+    prims: std::ops::Range<usize>,
 }
 
-/// Where a cluster's subtree goes: the top node it replaces and that node's depth.
-#[derive(Clone, Copy, Default)]
-struct Place {
+/// A node of the top that the full builder builds, over all primitives of its clusters: its
+/// place in the top, its depth, and its clusters (a range of the top's orders).
+struct Group {
     node: usize,
     depth: usize,
+    clusters: std::ops::Range<usize>,
 }
 
 /// Builds a hierarchy over primitives with the given `bounds`, `ref_of(p)` giving primitive
-/// `p` as the builder reads it (see [`super::build`]). The builder's copy of the boxes is made
-/// once, already in Morton order (a copy in input order first would be 32 more bytes written
-/// per primitive, most of it into freshly faulted pages).
+/// `p` as the builder reads it (see [`super::build`]).
 pub(super) fn build(
     bounds: &[Aabb],
-    ref_of: impl Fn(usize) -> Ref,
+    ref_of: impl Fn(usize) -> Ref + Sync,
     opts: &BuildOptions,
     builder: &Builder,
 ) -> Bvh {
-    let (mut ids, codes) = morton::sorted(bounds);
-    let mut sorted: Vec<Ref> = ids.iter().map(|&p| ref_of(p as usize)).collect();
-    let ends = morton::clusters(&codes, CLUSTER.max(opts.max_leaf_size));
+    let (ids, codes) = morton::sorted(bounds);
+    let cluster_max = CLUSTER.max(opts.max_leaf_size);
+    let group_max = GROUP.max(cluster_max);
+    let ends = morton::clusters(&codes, cluster_max);
     drop(codes);
 
-    // Each cluster's span of the sorted primitives, with its bounds.
-    let mut spans = Vec::with_capacity(ends.len());
-    let (mut refs_left, mut ids_left) = (&mut sorted[..], &mut ids[..]);
+    // Each cluster's bounds, read through the Morton order.
+    let mut clusters = Vec::with_capacity(ends.len());
     let mut start = 0;
     for &end in &ends {
-        let (r, rest_r) = refs_left.split_at_mut(end - start);
-        let (i, rest_i) = ids_left.split_at_mut(end - start);
-        (refs_left, ids_left) = (rest_r, rest_i);
-        let (bounds, centroids, slots) = scan(r);
-        spans.push((
-            Span {
-                refs: r,
-                ids: i,
-                bounds,
-                centroids,
-                slots,
-            },
-            start,
-        ));
+        let refs = ids[start..end].iter().map(|&p| ref_of(p as usize));
+        let (b, c, slots) = refs.fold((Box3::EMPTY, Centroids::EMPTY, 0), |(b, c, s), r| {
+            (b.union(r.bounds()), c.grow(r.centroid2()), s + r.slots())
+        });
+        let a = b.aabb();
+        let centre = (a.min + a.max) * 0.5;
+        clusters.push(Cluster {
+            bounds: b,
+            centroids: c,
+            centre: [centre.x, centre.y, centre.z],
+            slots,
+            prims: start..end,
+        });
         start = end;
     }
-    let clusters: Vec<Cluster> = spans
+
+    let mut nodes = Vec::with_capacity(start * 2 / 3 + 1);
+    let mut top = Top::new(&clusters, group_max);
+    top.build(&mut nodes);
+    let (orders, groups) = (&top.orders[0], &top.groups);
+    // Where each group's primitives start in the final order: groups in the top's order.
+    let offsets: Vec<usize> = groups
         .iter()
-        .map(|(s, _)| {
-            let b = s.bounds.aabb();
-            let c = (b.min + b.max) * 0.5;
-            Cluster {
-                bounds: s.bounds,
-                centre: [c.x, c.y, c.z],
-                slots: s.slots as f32,
-            }
+        .scan(0, |at, g| {
+            let here = *at;
+            *at += g
+                .clusters
+                .clone()
+                .map(|i| clusters[orders[i] as usize].prims.len())
+                .sum::<usize>();
+            Some(here)
         })
         .collect();
 
-    let mut nodes = Vec::with_capacity(start * 2 / 3 + 1);
-    let mut places = vec![Place::default(); clusters.len()];
-    Top::new(&clusters).build(&mut nodes, &mut places);
-
-    let subtrees: Vec<_> = spans
-        .into_par_iter()
-        .zip(places.par_iter())
-        .map(|((span, offset), place)| builder.subtree(span, offset, place.depth))
+    // Each group's primitives gathered into scratch (its clusters in Morton order), built.
+    let built: Vec<(Subtree, Vec<u32>)> = groups
+        .par_iter()
+        .zip(offsets.par_iter())
+        .map_init(Vec::new, |refs: &mut Vec<Ref>, (g, &offset)| {
+            let mut members: Vec<u32> = orders[g.clusters.clone()].to_vec();
+            members.sort_unstable();
+            refs.clear();
+            let mut group_ids = Vec::new();
+            let (mut group_bounds, mut centroids, mut slots) = (Box3::EMPTY, Centroids::EMPTY, 0);
+            for &m in &members {
+                let cluster = &clusters[m as usize];
+                let prims = &ids[cluster.prims.clone()];
+                group_ids.extend_from_slice(prims);
+                refs.extend(prims.iter().map(|&p| ref_of(p as usize)));
+                group_bounds = group_bounds.union(cluster.bounds);
+                centroids = centroids.union(cluster.centroids);
+                slots += cluster.slots;
+            }
+            let span = Span {
+                refs,
+                ids: &mut group_ids,
+                bounds: group_bounds,
+                centroids,
+                slots,
+            };
+            (builder.subtree(span, offset, g.depth), group_ids)
+        })
         .collect();
-    for (sub, place) in subtrees.into_iter().zip(&places) {
-        graft(&mut nodes, place.node, sub);
+    let mut order = vec![0u32; start];
+    for ((sub, group_ids), (g, &offset)) in built.into_iter().zip(groups.iter().zip(&offsets)) {
+        order[offset..offset + group_ids.len()].copy_from_slice(&group_ids);
+        graft(&mut nodes, g.node, sub);
     }
-    Bvh::from_parts(nodes, ids)
+    Bvh::from_parts(nodes, order)
 }
 
 /// The top hierarchy over the clusters: every split of a node's clusters along each axis
@@ -110,6 +145,10 @@ pub(super) fn build(
 /// stably, so each level costs a pass over the clusters), down to one cluster per leaf.
 struct Top<'a> {
     clusters: &'a [Cluster],
+    /// See [`GROUP`].
+    group_max: usize,
+    /// The nodes left to the full builder, in the top's order.
+    groups: Vec<Group>,
     /// Per axis, the cluster indices sorted by centre (ties by index).
     orders: [Vec<u32>; 3],
     /// Scratch: the half areas of the right sides of a sweep, and the side of each cluster.
@@ -119,7 +158,7 @@ struct Top<'a> {
 }
 
 impl<'a> Top<'a> {
-    fn new(clusters: &'a [Cluster]) -> Self {
+    fn new(clusters: &'a [Cluster], group_max: usize) -> Self {
         let orders = std::array::from_fn(|axis| {
             let mut o: Vec<u32> = (0..clusters.len() as u32).collect();
             o.sort_by(|&a, &b| {
@@ -130,6 +169,8 @@ impl<'a> Top<'a> {
         });
         Self {
             clusters,
+            group_max,
+            groups: Vec::new(),
             orders,
             right_areas: vec![0.0; clusters.len()],
             left: vec![false; clusters.len()],
@@ -137,8 +178,9 @@ impl<'a> Top<'a> {
         }
     }
 
-    /// Fills `nodes` with the top, root at 0; `places[c]` gets the node cluster `c` replaces.
-    fn build(&mut self, nodes: &mut Vec<Node>, places: &mut [Place]) {
+    /// Fills `nodes` with the top, root at 0, and [`Top::groups`] with its nodes left to the
+    /// full builder.
+    fn build(&mut self, nodes: &mut Vec<Node>) {
         if self.clusters.is_empty() {
             return;
         }
@@ -147,20 +189,26 @@ impl<'a> Top<'a> {
             first: 0,
             count: 0,
         });
-        self.fill(nodes, places, 0, 0..self.clusters.len(), 0);
+        self.fill(nodes, 0, 0..self.clusters.len(), 0);
     }
 
     fn fill(
         &mut self,
         nodes: &mut Vec<Node>,
-        places: &mut [Place],
         index: usize,
         range: std::ops::Range<usize>,
         depth: usize,
     ) {
-        if range.len() == 1 {
-            let c = self.orders[0][range.start] as usize;
-            places[c] = Place { node: index, depth };
+        let prims: usize = self.orders[0][range.clone()]
+            .iter()
+            .map(|&c| self.clusters[c as usize].prims.len())
+            .sum();
+        if range.len() == 1 || prims <= self.group_max {
+            self.groups.push(Group {
+                node: index,
+                depth,
+                clusters: range,
+            });
             return;
         }
         let (axis, mid) = self.best_split(range.clone(), depth);
@@ -177,8 +225,8 @@ impl<'a> Top<'a> {
             first: first as u32,
             count: 0,
         };
-        self.fill(nodes, places, first, range.start..mid, depth + 1);
-        self.fill(nodes, places, first + 1, mid..range.end, depth + 1);
+        self.fill(nodes, first, range.start..mid, depth + 1);
+        self.fill(nodes, first + 1, mid..range.end, depth + 1);
     }
 
     fn bounds(&self, range: std::ops::Range<usize>) -> Aabb {
@@ -205,12 +253,15 @@ impl<'a> Top<'a> {
                 b = b.union(self.clusters[order[i] as usize].bounds);
                 self.right_areas[i] = b.half_area();
             }
-            let total: f32 = order.iter().map(|&c| self.clusters[c as usize].slots).sum();
+            let total: f32 = order
+                .iter()
+                .map(|&c| self.clusters[c as usize].slots as f32)
+                .sum();
             let (mut b, mut slots) = (Box3::EMPTY, 0.0);
             for i in 1..n {
                 let c = &self.clusters[order[i - 1] as usize];
                 b = b.union(c.bounds);
-                slots += c.slots;
+                slots += c.slots as f32;
                 let cost = b.half_area() * slots + self.right_areas[i] * (total - slots);
                 let uneven = n.abs_diff(2 * i);
                 if cost < best.0 || (cost == best.0 && uneven < best.1) {

@@ -32,24 +32,7 @@ impl<T: Copy> Lanes<T> {
         Some(self.items[self.len])
     }
 
-    /// Removes item `i`, moving the last one into its place (as `Vec::swap_remove`).
-    #[inline(always)]
-    pub fn swap_remove(&mut self, i: usize) -> T {
-        let item = self.items[i];
-        self.len -= 1;
-        self.items[i] = self.items[self.len];
-        item
-    }
-
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
     pub fn as_slice(&self) -> &[T] {
         &self.items[..self.len]
-    }
-
-    pub fn iter(&self) -> std::slice::Iter<'_, T> {
-        self.as_slice().iter()
     }
 }

@@ -19,6 +19,7 @@ mod in_flight;
 pub(crate) mod inside;
 mod lanes;
 mod nearest;
+mod opening;
 mod packet;
 mod simd_path;
 mod traverse;
@@ -34,7 +35,7 @@ pub use simd_path::SimdPath;
 
 use super::bvh::{Bvh, MAX_DEPTH, Node, each_once, leaf_content};
 use crate::math::{Aabb, Vec3};
-use lanes::Lanes;
+use opening::Openings;
 
 /// Marks an unused child lane in [`WideNode::count`].
 pub(crate) const EMPTY_LANE: u32 = u32::MAX;
@@ -109,9 +110,9 @@ pub struct WideBvh<const W: usize> {
 pub type Wide8 = WideBvh<8>;
 
 impl<const W: usize> WideBvh<W> {
-    /// Collapses a binary hierarchy: each wide node takes the binary node's two children and
-    /// keeps opening its largest-area interior child until `W` children or only leaves remain
-    /// (the surface-area order opens the children a ray is most likely to enter).
+    /// Collapses a binary hierarchy: each wide node opens binary nodes below its own until it
+    /// has up to `W` lanes, chosen over the whole tree for the least cost by the surface area
+    /// heuristic with a price per wide node ([`opening`]).
     pub fn collapse(binary: &Bvh) -> Self {
         const {
             assert!(
@@ -139,7 +140,7 @@ impl<const W: usize> WideBvh<W> {
                 wide.shapes.push(binary::SINGLE_LANE);
             }
             Some(_) => {
-                wide.emit(binary, 0);
+                wide.emit(binary, &Openings::new(bin), 0);
             }
         }
         let len = wide.prim_order.len().next_multiple_of(LEAF_ALIGN);
@@ -160,43 +161,12 @@ impl<const W: usize> WideBvh<W> {
     }
 
     /// Appends the wide node for binary interior node `index`, then its subtrees; returns its index.
-    fn emit(&mut self, binary: &Bvh, index: u32) -> u32 {
+    fn emit(&mut self, binary: &Bvh, openings: &Openings<W>, index: u32) -> u32 {
         let bin = binary.nodes();
         let at = self.nodes.len();
         self.nodes.push(WideNode::UNUSED);
         self.shapes.push(0);
-        // Open binary nodes, largest area first, while the lanes they leave fit. Each kid
-        // carries its area (0 for a leaf, which is never opened), computed once.
-        let mut opened = Lanes::new(index);
-        let kid = |k: u32| {
-            let n = &bin[k as usize];
-            let area = if n.is_leaf() {
-                None
-            } else {
-                Some(n.bounds.surface_area())
-            };
-            (k, area)
-        };
-        let first = bin[index as usize].first;
-        let mut kids = Lanes::new(kid(first));
-        kids.push(kid(first + 1));
-        while kids.len() < W {
-            // The widest interior kid; of equal ones the last, as `max_by` picks.
-            let mut widest: Option<(usize, f32)> = None;
-            for (i, &(_, area)) in kids.iter().enumerate() {
-                if let Some(a) = area
-                    && widest.is_none_or(|(_, w)| a.total_cmp(&w).is_ge())
-                {
-                    widest = Some((i, a));
-                }
-            }
-            let Some((i, _)) = widest else { break };
-            let (open, _) = kids.swap_remove(i);
-            opened.push(open);
-            let f = bin[open as usize].first;
-            kids.push(kid(f));
-            kids.push(kid(f + 1));
-        }
+        let opened = openings.opened(bin, index);
         // Lanes in the binary subtree's left-to-right order, and its shape.
         let (shape, lanes) = binary::shape_of(bin, index, opened.as_slice());
         self.shapes[at] = shape;
@@ -205,7 +175,7 @@ impl<const W: usize> WideBvh<W> {
             let (child, count) = if n.is_leaf() {
                 (self.place_leaf(binary, n), n.count)
             } else {
-                (self.emit(binary, k), 0)
+                (self.emit(binary, openings, k), 0)
             };
             self.nodes[at].set(lane, &n.bounds, child, count);
         }
@@ -226,9 +196,12 @@ impl<const W: usize> WideBvh<W> {
     /// Bytes of the hierarchy (nodes, shapes and primitive order), for the bytes-per-primitive
     /// figure.
     pub fn bytes(&self) -> usize {
-        std::mem::size_of_val(self.nodes.as_slice())
-            + std::mem::size_of_val(self.shapes.as_slice())
-            + 4 * self.prim_order.len()
+        self.node_bytes() + 4 * self.prim_order.len()
+    }
+
+    /// Bytes of the nodes and of their shapes.
+    pub fn node_bytes(&self) -> usize {
+        std::mem::size_of_val(self.nodes.as_slice()) + std::mem::size_of_val(self.shapes.as_slice())
     }
 
     /// The surface area heuristic's cost of a ray through the tree, in SIMD tests: a node's
@@ -268,6 +241,12 @@ impl<const W: usize> WideBvh<W> {
                 Err("no nodes for primitives".into())
             };
         }
+        if !self.prim_order.len().is_multiple_of(LEAF_ALIGN) {
+            return Err(format!(
+                "the leaf order's {} entries do not fill whole groups",
+                self.prim_order.len()
+            ));
+        }
         let mut seen = vec![0u32; prim_bounds.len()];
         let content = self.validate_node(0, 1, prim_bounds, &mut seen)?;
         if content != self.bounds {
@@ -305,6 +284,9 @@ impl<const W: usize> WideBvh<W> {
                 0 => self.validate_node(child, depth + 1, prim_bounds, seen)?,
                 _ => {
                     let range = child as usize..(child + count) as usize;
+                    if !range.start.is_multiple_of(LEAF_ALIGN) {
+                        return Err(format!("node {index} lane {lane}: leaf is not aligned"));
+                    }
                     let prims = self
                         .prim_order
                         .get(range)
