@@ -73,8 +73,7 @@ impl CutoffArgs {
             st.cutoff = check_cutoff(w).map_err(|m| anyhow::anyhow!("--cutoff: {m}"))?;
         }
         if let Some(t) = self.adaptive {
-            st.adaptive =
-                Some(check_adaptive(t).map_err(|m| anyhow::anyhow!("--adaptive: {m}"))?);
+            st.adaptive = Some(check_adaptive(t).map_err(|m| anyhow::anyhow!("--adaptive: {m}"))?);
         }
         Ok(())
     }

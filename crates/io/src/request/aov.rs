@@ -56,7 +56,9 @@ impl FromStr for Aov {
 
     fn from_str(s: &str) -> Result<Self, String> {
         Aov::ALL.into_iter().find(|a| a.name() == s).ok_or_else(|| {
-            format!("unknown AOV {s:?}; expected albedo, position, uv, lightpaths, lights or samples")
+            format!(
+                "unknown AOV {s:?}; expected albedo, position, uv, lightpaths, lights or samples"
+            )
         })
     }
 }

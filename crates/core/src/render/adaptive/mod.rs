@@ -46,8 +46,7 @@ pub(super) struct BasePass {
 /// One row of the base pass.
 #[derive(Default)]
 struct Row {
-    samples: Vec<CameraSample>,
-    passes: Vec<Vec3>,
+    traced: Traced,
     counts: RayCounts,
 }
 
@@ -73,12 +72,7 @@ impl BasePass {
                 let mut row = Row::default();
                 let mut rays = Vec::new();
                 for x in area.x0..area.x1 {
-                    let Row {
-                        samples,
-                        passes,
-                        counts,
-                    } = &mut row;
-                    pass.trace_strata(x, y, &strata, &mut rays, counts, samples, passes);
+                    pass.trace_strata(x, y, &strata, &mut rays, &mut row.counts, &mut row.traced);
                 }
                 Some(row)
             })
@@ -94,8 +88,8 @@ impl BasePass {
         };
         for row in rows {
             let row = row?;
-            base.samples.extend(row.samples);
-            base.passes.extend(row.passes);
+            base.samples.extend(row.traced.samples);
+            base.passes.extend(row.traced.passes);
             base.counts += row.counts;
         }
         let per_pixel = base.strata.len() * pass.lens_rays as usize;
@@ -163,7 +157,7 @@ impl BasePass {
             b as u32
         } else {
             let others: Vec<u32> = (0..n * n).filter(|s| !self.strata.contains(s)).collect();
-            pass.trace_strata(x, y, &others, rays, counts, &mut rest.samples, &mut rest.passes);
+            pass.trace_strata(x, y, &others, rays, counts, rest);
             n * n
         };
         counts.not_traced.adaptive += u64::from(n * n - taken) * lens as u64;
@@ -239,9 +233,9 @@ impl Pass<'_> {
         strata: &[u32],
         rays: &mut Vec<Ray>,
         counts: &mut RayCounts,
-        samples: &mut Vec<CameraSample>,
-        passes: &mut Vec<Vec3>,
+        out: &mut Traced,
     ) {
+        let Traced { samples, passes } = out;
         rays.clear();
         for &s in strata {
             self.sample_rays(x, y, s, rays);
