@@ -1,11 +1,12 @@
 //! The accuracy flags shared by `render` and `hits` (`--precision`, `--offset`, `--epsilon`),
-//! plus `render`'s `--cutoff`; each overrides the scene file's `[render]` key of the same name.
+//! plus `render`'s `--cutoff` and `--adaptive`; each overrides the scene file's `[render]` key
+//! of the same name.
 
 use super::values::{OffsetArg, PrecisionArg};
 use anyhow::{Result, bail};
 use clap::Args;
 use lumis_core::geometry::{Offset, check_cutoff, check_epsilon};
-use lumis_core::scene::Settings;
+use lumis_core::scene::{Settings, check_adaptive};
 
 /// `--precision`, `--offset`, `--epsilon`.
 #[derive(Args, Debug, Default)]
@@ -24,13 +25,19 @@ pub struct AccuracyArgs {
     epsilon: Option<f32>,
 }
 
-/// `--cutoff`.
+/// `--cutoff` and `--adaptive`.
 #[derive(Args, Debug, Default)]
 pub struct CutoffArgs {
     /// Skip reflection/refraction branches whose weight in the pixel is below W (0 = off).
     /// Default: the scene's `cutoff`, else 0.01 (0 for .scn scenes, as the paper's program).
     #[arg(long, value_name = "W")]
     cutoff: Option<f32>,
+    /// Adaptive supersampling: a base pass of 2 (spp 2) or 4 (spp >= 3) of each pixel's
+    /// spp x spp samples, then all of them only where the relative contrast (linear, per
+    /// channel and alpha) among those or against a neighbour's reaches T; 0 refines every
+    /// pixel (the full image). Default: the scene's `adaptive`, else off.
+    #[arg(long, value_name = "T")]
+    adaptive: Option<f32>,
 }
 
 impl AccuracyArgs {
@@ -60,10 +67,13 @@ impl AccuracyArgs {
 }
 
 impl CutoffArgs {
-    /// Applies `--cutoff` over the scene's setting.
+    /// Applies `--cutoff` and `--adaptive` over the scene's settings.
     pub fn apply(&self, st: &mut Settings) -> Result<()> {
         if let Some(w) = self.cutoff {
             st.cutoff = check_cutoff(w).map_err(|m| anyhow::anyhow!("--cutoff: {m}"))?;
+        }
+        if let Some(t) = self.adaptive {
+            st.adaptive = Some(check_adaptive(t).map_err(|m| anyhow::anyhow!("--adaptive: {m}"))?);
         }
         Ok(())
     }

@@ -26,6 +26,9 @@ pub enum AovArg {
     /// One RGB pass per light, light.<name>: its direct diffuse + specular at the first hit
     /// (they add up to diffuse + specular).
     Lights,
+    /// samples: the pixel samples each pixel took (spp x spp, fewer where --adaptive kept a
+    /// pixel's base pass).
+    Samples,
 }
 
 /// `--layout`.
@@ -50,6 +53,7 @@ impl From<AovArg> for Aov {
             AovArg::Uv => Aov::Uv,
             AovArg::Lightpaths => Aov::LightPaths,
             AovArg::Lights => Aov::Lights,
+            AovArg::Samples => Aov::Samples,
         }
     }
 }

@@ -52,6 +52,13 @@ pub fn summary(
             counts.cut()
         );
     }
+    if counts.not_traced.adaptive > 0 {
+        let _ = writeln!(
+            s,
+            "adaptive: {} camera rays of converged pixels not traced",
+            counts.not_traced.adaptive
+        );
+    }
     let mrays = total as f64 / secs(times.render).max(1e-9) / 1e6;
     let _ = writeln!(s, "speed: {mrays:.2} Mrays/s");
     if detailed {

@@ -11,6 +11,7 @@ mod support_io;
 
 mod accel_agreement;
 mod accuracy_options;
+mod adaptive;
 mod all_hits;
 mod assets_render;
 mod bad_input;

@@ -62,8 +62,12 @@ impl RenderArgs {
         // Writing to a String cannot fail.
         // Every field of the settings (from Debug, so that a new field cannot be left out),
         // each on its own line, so that a merge refusing tiles names just the ones that differ.
+        // Adaptive supersampling off is left out, so that renders without it keep the
+        // identity they had before it existed.
         for field in top_level_fields(&format!("{settings:?}")) {
-            let _ = writeln!(s, "{field}");
+            if field != "adaptive: None" {
+                let _ = writeln!(s, "{field}");
+            }
         }
         let _ = writeln!(s, "effects: {:?}", self.effects);
         let _ = writeln!(s, "accel: {:?}", self.accel);
@@ -77,11 +81,14 @@ impl RenderArgs {
             albedo,
             position,
             uv,
+            samples,
             instance: _,
         } = self.passes.aov_layers(false);
+        // `samples` only when asked for, so that the line of renders without it is unchanged.
+        let samples = if samples { ", samples: true" } else { "" };
         let _ = writeln!(
             s,
-            "aov: AovLayers {{ albedo: {albedo}, position: {position}, uv: {uv} }}"
+            "aov: AovLayers {{ albedo: {albedo}, position: {position}, uv: {uv}{samples} }}"
         );
         let _ = writeln!(s, "passes: {:?}", self.passes.pass_request(true));
         let _ = writeln!(s, "cryptomatte levels: {cryptomatte:?}");

@@ -20,7 +20,8 @@ pub use tonemap::Tonemap;
 use crate::cryptomatte::CryptoLayer;
 use crate::math::{Vec2, Vec3, Vec4};
 
-/// What the centre ray of one pixel saw, for the depth, normal and id layers.
+/// What the centre ray of one pixel saw, for the depth, normal and id layers, and how many
+/// samples the pixel took.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixelAov {
     /// Camera-space depth along the view axis; `f32::INFINITY` where the ray missed.
@@ -42,6 +43,9 @@ pub struct PixelAov {
     /// Surface texture coordinates at the hit (a mesh's first set, a sphere's longitude and
     /// latitude); zero where missed.
     pub uv: Vec2,
+    /// Pixel samples the render took here (each traced through the lens rays of one sample):
+    /// `spp x spp`, or fewer under adaptive supersampling; 0 where no render wrote the pixel.
+    pub samples: u32,
 }
 
 impl PixelAov {
@@ -55,6 +59,7 @@ impl PixelAov {
         albedo: Vec3::ZERO,
         position: Vec3::ZERO,
         uv: Vec2::ZERO,
+        samples: 0,
     };
 }
 

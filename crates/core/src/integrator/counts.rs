@@ -37,6 +37,9 @@ pub struct NotTraced {
     pub lens: u64,
     /// Centre rays for AOV layers when no output has them (one per pixel).
     pub aov: u64,
+    /// Camera rays of the pixel samples adaptive supersampling found unneeded (lens rays
+    /// included; `--adaptive`).
+    pub adaptive: u64,
 }
 
 /// Why shadow rays were not cast, one count per (shading point, light) pair.
@@ -120,7 +123,8 @@ add_fields!(NotTraced {
     reflection,
     refraction,
     lens,
-    aov
+    aov,
+    adaptive
 });
 add_fields!(ShadowSkips {
     material_unlit,

@@ -61,5 +61,6 @@ pub(super) fn centre_aov(
         albedo,
         position: s.p,
         uv: s.uv,
+        samples: 0,
     }
 }

@@ -12,11 +12,14 @@ use crate::rng::SampleRng;
 use crate::scene::{Scene, SettingsError, World};
 use rayon::prelude::*;
 
+mod adaptive;
 mod centre;
 mod passes;
 mod progress;
 mod threads;
 
+use adaptive::BasePass;
+pub use adaptive::base_strata;
 use centre::centre_aov;
 use passes::PassLayout;
 pub use passes::PassRequest;
@@ -158,20 +161,37 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
         mattes: mattes.as_ref(),
         layout: &layout,
     };
-    let run = || -> Vec<TileResult> {
-        tiles
+    let run = || -> (Vec<TileResult>, RayCounts) {
+        // Adaptive: every decision reads the base pass of the window and a one-pixel border,
+        // made first, so that no tile split, crop or thread count changes one.
+        let base = match st.adaptive {
+            Some(threshold) => match BasePass::trace(&pass, threshold, &opts.cancel) {
+                Some(base) => Some(base),
+                None => return (Vec::new(), RayCounts::default()),
+            },
+            None => None,
+        };
+        let tiles = tiles
             .par_iter()
             .filter_map(|&(x0, y0)| {
                 if opts.cancel.is_raised() {
                     return None;
                 }
-                let tile = pass.tile(x0, y0);
+                let tile = match &base {
+                    Some(base) => pass.tile(x0, y0, |x, y, scratch, counts, passes| {
+                        base.pixel(&pass, x, y, scratch, counts, passes)
+                    }),
+                    None => pass.tile(x0, y0, |x, y, scratch, counts, passes| {
+                        pass.pixel(x, y, scratch, counts, passes)
+                    }),
+                };
                 bar.tile_done();
                 Some(tile)
             })
-            .collect()
+            .collect();
+        (tiles, base.map_or(RayCounts::default(), |b| b.counts))
     };
-    let results = match opts.threads {
+    let (results, base_counts) = match opts.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
@@ -181,7 +201,7 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
     };
     bar.finish();
     let mut film = Film::window(width, height, window);
-    let mut counts = RayCounts::default();
+    let mut counts = base_counts;
     let unfinished_tiles = tiles.len() - results.len();
     let (ox, oy) = film.origin();
     let film_width = window.width();
@@ -244,8 +264,14 @@ struct Pass<'a> {
 }
 
 impl Pass<'_> {
-    /// The pixels of the tile at `(x0, y0)` inside the window.
-    fn tile(&self, x0: u32, y0: u32) -> TileResult {
+    /// The pixels of the tile at `(x0, y0)` inside the window, each made by `pixel` (its
+    /// colour, centre-ray AOV and the pixel samples it took).
+    fn tile(
+        &self,
+        x0: u32,
+        y0: u32,
+        mut pixel: impl FnMut(u32, u32, &mut Scratch, &mut RayCounts, &mut [Vec3]) -> (Vec4, PixelAov),
+    ) -> TileResult {
         let w = self.window;
         // (x0, y0) is on the tile grid: the tile ends a TILE later, clipped like its start.
         let (x1, y1) = ((x0 + TILE).min(w.x1), (y0 + TILE).min(w.y1));
@@ -258,8 +284,7 @@ impl Pass<'_> {
             vec![Rank::default(); n * levels],
             vec![Rank::default(); n * levels],
         ];
-        let mut samples = PixelSamples::default();
-        let mut rays = Vec::new();
+        let mut scratch = Scratch::default();
         let k = self.layout.count();
         let mut passes = vec![Vec3::ZERO; n * k];
         for (i, (x, y)) in (y0..y1)
@@ -267,16 +292,16 @@ impl Pass<'_> {
             .enumerate()
         {
             let out = &mut passes[i * k..][..k];
-            pixels.push(self.pixel(x, y, &mut samples, &mut rays, &mut counts, out));
+            let (rgba, aov) = pixel(x, y, &mut scratch, &mut counts, out);
+            pixels.push((rgba, aov));
             if let Some(m) = self.mattes {
-                let st = self.scene.settings();
-                let total = st.spp * st.spp * self.lens_rays;
+                let total = aov.samples * self.lens_rays;
                 let [object, material] = &mut crypto;
                 let (object, material) = (
                     &mut object[i * levels..][..levels],
                     &mut material[i * levels..][..levels],
                 );
-                m.rank(&mut samples, total, object, material);
+                m.rank(&mut scratch.samples, total, object, material);
             }
         }
         TileResult {
@@ -298,27 +323,18 @@ impl Pass<'_> {
         &self,
         x: u32,
         y: u32,
-        samples: &mut PixelSamples,
-        rays: &mut Vec<Ray>,
+        scratch: &mut Scratch,
         counts: &mut RayCounts,
         passes: &mut [Vec3],
     ) -> (Vec4, PixelAov) {
         let st = self.scene.settings();
-        let cam = self.scene.camera();
-        let frame = self.integrator.world().accel().frame();
         let n = st.spp;
+        let Scratch { samples, rays, .. } = scratch;
         // Every camera ray of the pixel, in sample order, then traced in packets (the samples
         // of one pixel are the most coherent rays there are) and summed in the same order.
         rays.clear();
         for s in 0..n * n {
-            let mut rng = SampleRng::new(self.seed, x, y, s);
-            let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
-            let stratum = Vec2::new((s % n) as f32, (s / n) as f32);
-            let film = Vec2::new(x as f32, y as f32) + (stratum + jitter) / n as f32;
-            for _ in 0..self.lens_rays {
-                let lens = Vec2::new(rng.next_f32(), rng.next_f32());
-                rays.push(cam.ray(frame, film, st.width, st.height, lens));
-            }
+            self.sample_rays(x, y, s, rays);
         }
         counts.not_traced.lens +=
             u64::from(n * n) * u64::from(st.lens_samples.saturating_sub(self.lens_rays));
@@ -354,12 +370,47 @@ impl Pass<'_> {
             *v /= total;
         }
         let rgba = sum / total;
+        (rgba, self.centre(x, y, n * n, counts))
+    }
+
+    /// The camera rays of pixel sample `s` of pixel `(x, y)`, one per lens position, onto
+    /// `rays`: jittered in stratum `(s % spp, s / spp)` by the sample's own random stream.
+    #[inline]
+    fn sample_rays(&self, x: u32, y: u32, s: u32, rays: &mut Vec<Ray>) {
+        let st = self.scene.settings();
+        let cam = self.scene.camera();
+        let frame = self.integrator.world().accel().frame();
+        let n = st.spp;
+        let mut rng = SampleRng::new(self.seed, x, y, s);
+        let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
+        let stratum = Vec2::new((s % n) as f32, (s / n) as f32);
+        let film = Vec2::new(x as f32, y as f32) + (stratum + jitter) / n as f32;
+        for _ in 0..self.lens_rays {
+            let lens = Vec2::new(rng.next_f32(), rng.next_f32());
+            rays.push(cam.ray(frame, film, st.width, st.height, lens));
+        }
+    }
+
+    /// The AOV of pixel `(x, y)` (its centre ray's, when the layers are written) and the
+    /// pixel samples it took.
+    fn centre(&self, x: u32, y: u32, samples: u32, counts: &mut RayCounts) -> PixelAov {
         let aov = if self.aov {
             centre_aov(self.scene, self.integrator, x, y, counts)
         } else {
             counts.not_traced.aov += 1;
             PixelAov::MISS
         };
-        (rgba, aov)
+        PixelAov { samples, ..aov }
     }
+}
+
+/// What one worker re-uses from pixel to pixel.
+#[derive(Default)]
+struct Scratch {
+    /// The pixel's first hits, for Cryptomatte.
+    samples: PixelSamples,
+    /// The pixel's camera rays.
+    rays: Vec<Ray>,
+    /// The samples an adaptive pixel traces after its base pass.
+    rest: adaptive::Traced,
 }

@@ -23,7 +23,7 @@ pub use contains::{Containment, ContainmentMethod, PointError, check_points};
 pub use limits::LimitError;
 pub use settings::{
     DEFAULT_CUTOFF, MAX_DEPTH, MAX_LENS_SAMPLES, MAX_PIXELS, MAX_SIDE, MAX_SPP, Settings,
-    SettingsError,
+    SettingsError, check_adaptive,
 };
 pub use world::World;
 

@@ -45,6 +45,11 @@ pub struct Settings {
     /// How the PNG preview encodes linear values (`display`, `--display`): the sRGB curve by
     /// default; `.scn` scenes clamp without a curve, as the paper's program writes its images.
     pub display: DisplayTransform,
+    /// Adaptive supersampling (`adaptive`, `--adaptive T`): a base pass of a few of the
+    /// `spp x spp` samples, the rest only where the relative contrast among a pixel's base
+    /// samples or against a neighbour's exceeds `T` ([`crate::render`]); `None` takes every
+    /// sample everywhere, and `Some(0.0)` refines every pixel (the same image).
+    pub adaptive: Option<f32>,
 }
 
 impl Default for Settings {
@@ -63,7 +68,19 @@ impl Default for Settings {
             offset: Offset::default(),
             cutoff: DEFAULT_CUTOFF,
             display: DisplayTransform::Srgb,
+            adaptive: None,
         }
+    }
+}
+
+/// `t` if it is a usable adaptive threshold ([`Settings::adaptive`]): finite and >= 0.
+pub fn check_adaptive(t: f32) -> Result<f32, String> {
+    if t.is_finite() && t >= 0.0 {
+        Ok(t)
+    } else {
+        Err(format!(
+            "adaptive threshold {t} must be finite and >= 0 (0 refines every pixel)"
+        ))
     }
 }
 
@@ -172,6 +189,14 @@ impl Settings {
                 )?;
             }
         }
+        if let Some(t) = self.adaptive {
+            number(
+                "adaptive threshold",
+                t,
+                t.is_finite() && t >= 0.0,
+                "finite and >= 0",
+            )?;
+        }
         if let Offset::Epsilon(e) = self.offset {
             number(
                 "epsilon",
@@ -230,12 +255,21 @@ mod tests {
         assert!(refused(&|s| s.ambient.y = -1.0).starts_with("ambient -1"));
         assert!(refused(&|s| s.background.x = f32::INFINITY).starts_with("background inf"));
         assert!(refused(&|s| s.offset = Offset::Epsilon(0.0)).starts_with("epsilon 0"));
+        assert_eq!(
+            refused(&|s| s.adaptive = Some(-0.1)),
+            "adaptive threshold -0.1 must be finite and >= 0"
+        );
+        assert_eq!(
+            refused(&|s| s.adaptive = Some(f32::NAN)),
+            "adaptive threshold NaN must be finite and >= 0"
+        );
         // The edges of each range are accepted.
         let mut s = Settings {
             spp: MAX_SPP,
             max_depth: 0,
             lens_samples: MAX_LENS_SAMPLES,
             cutoff: 1.0,
+            adaptive: Some(0.0),
             ..Settings::default()
         };
         (s.width, s.height) = (MAX_SIDE, (MAX_PIXELS / MAX_SIDE as u64) as u32);

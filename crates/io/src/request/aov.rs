@@ -22,16 +22,20 @@ pub enum Aov {
     LightPaths,
     /// One pass per light, `light.<name>`.
     Lights,
+    /// `samples`: the pixel samples each pixel took (fewer than `spp x spp` where adaptive
+    /// supersampling found the base pass enough).
+    Samples,
 }
 
 impl Aov {
     /// Every layer, in documentation order.
-    pub const ALL: [Aov; 5] = [
+    pub const ALL: [Aov; 6] = [
         Aov::Albedo,
         Aov::Position,
         Aov::Uv,
         Aov::LightPaths,
         Aov::Lights,
+        Aov::Samples,
     ];
 
     /// The name used on the command line (`--aov`) and in Python (`aovs=`).
@@ -42,6 +46,7 @@ impl Aov {
             Aov::Uv => "uv",
             Aov::LightPaths => "lightpaths",
             Aov::Lights => "lights",
+            Aov::Samples => "samples",
         }
     }
 }
@@ -51,7 +56,9 @@ impl FromStr for Aov {
 
     fn from_str(s: &str) -> Result<Self, String> {
         Aov::ALL.into_iter().find(|a| a.name() == s).ok_or_else(|| {
-            format!("unknown AOV {s:?}; expected albedo, position, uv, lightpaths or lights")
+            format!(
+                "unknown AOV {s:?}; expected albedo, position, uv, lightpaths, lights or samples"
+            )
         })
     }
 }
@@ -69,6 +76,7 @@ pub fn aov_layers(aovs: &[Aov], instances: bool) -> AovLayers {
         albedo: aovs.contains(&Aov::Albedo),
         position: aovs.contains(&Aov::Position),
         uv: aovs.contains(&Aov::Uv),
+        samples: aovs.contains(&Aov::Samples),
         instance: instances,
     }
 }

@@ -101,13 +101,19 @@ pub fn encode_plot(summary: &[Summary], title: &str, format: PlotFormat) -> Resu
     }
 }
 
-const SERIES: [(&str, RGBColor); 5] = [
-    ("spp", RGBColor(31, 119, 180)),
-    ("max_depth", RGBColor(255, 127, 14)),
-    ("cutoff", RGBColor(44, 160, 44)),
-    ("precision", RGBColor(214, 39, 40)),
-    ("offset", RGBColor(148, 103, 189)),
+/// Each knob's series, drawn from the point it varies (knob and value: the defaults, or the
+/// spp 4 point for adaptive sampling at 4x4).
+const SERIES: [(&str, RGBColor, (&str, &str)); 7] = [
+    ("spp", RGBColor(31, 119, 180), DEFAULT),
+    ("max_depth", RGBColor(255, 127, 14), DEFAULT),
+    ("cutoff", RGBColor(44, 160, 44), DEFAULT),
+    ("precision", RGBColor(214, 39, 40), DEFAULT),
+    ("offset", RGBColor(148, 103, 189), DEFAULT),
+    ("adaptive", RGBColor(23, 190, 207), DEFAULT),
+    ("adaptive spp 4", RGBColor(227, 119, 194), ("spp", "4")),
 ];
+
+const DEFAULT: (&str, &str) = ("default", "default");
 
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -146,12 +152,14 @@ fn draw<DB: DrawingBackend>(
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(err)?;
-    let default = shown.iter().find(|s| s.point.knob == "default");
-    for (knob, color) in SERIES {
+    for (knob, color, (from_knob, from_value)) in SERIES {
+        let from = shown
+            .iter()
+            .find(|s| s.point.knob == from_knob && s.point.value == from_value);
         let mut pts: Vec<(f64, f64)> = shown
             .iter()
             .filter(|s| s.point.knob == knob)
-            .chain(default)
+            .chain(from)
             .map(|s| (s.time_ratio, s.rel_mse))
             .collect();
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -23,7 +23,7 @@ pub struct Row {
 }
 
 /// The CSV header, matching [`csv`]'s columns.
-pub const CSV_HEADER: &str = "scene,knob,value,spp,max_depth,cutoff,precision,offset,seconds,time_ratio,rmse,rel_mse,p99,acne_px,lost_px,rays,ray_hit_miss,ray_prim,shadow_rays,shadow_disagree";
+pub const CSV_HEADER: &str = "scene,knob,value,spp,max_depth,cutoff,precision,offset,adaptive,seconds,time_ratio,rmse,rel_mse,p99,acne_px,lost_px,rays,ray_hit_miss,ray_prim,shadow_rays,shadow_disagree";
 
 /// Every row as CSV, header first.
 pub fn csv(rows: &[Row]) -> String {
@@ -32,7 +32,7 @@ pub fn csv(rows: &[Row]) -> String {
         let (k, e, q) = (&r.point.knobs, &r.image, &r.queries);
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{:.6},{:.4},{:.6e},{:.6e},{:.6e},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{:.6},{:.4},{:.6e},{:.6e},{:.6e},{},{},{},{},{},{},{}",
             r.scene,
             r.point.knob,
             r.point.value,
@@ -41,6 +41,7 @@ pub fn csv(rows: &[Row]) -> String {
             k.cutoff,
             k.precision,
             k.offset,
+            k.adaptive.map_or("off".to_string(), |t| t.to_string()),
             r.seconds,
             r.time_ratio,
             e.rmse,

@@ -24,6 +24,8 @@ pub struct Knobs {
     pub precision: Precision,
     /// Secondary-ray offset rule.
     pub offset: Offset,
+    /// Adaptive supersampling threshold (`None`: off).
+    pub adaptive: Option<f32>,
 }
 
 impl Default for Knobs {
@@ -36,6 +38,7 @@ impl Default for Knobs {
             cutoff: s.cutoff,
             precision: s.precision,
             offset: s.offset,
+            adaptive: s.adaptive,
         }
     }
 }
@@ -48,16 +51,18 @@ impl Knobs {
         cutoff: 0.0,
         precision: Precision::Double,
         offset: Offset::ErrorBound,
+        adaptive: None,
     };
 
     /// Writes the knobs into `s`.
     pub fn apply(&self, s: &mut Settings) {
-        (s.spp, s.max_depth, s.cutoff, s.precision, s.offset) = (
+        (s.spp, s.max_depth, s.cutoff, s.precision, s.offset, s.adaptive) = (
             self.spp,
             self.max_depth,
             self.cutoff,
             self.precision,
             self.offset,
+            self.adaptive,
         );
     }
 }
@@ -65,7 +70,8 @@ impl Knobs {
 /// One measured setting: which axis it varies (`knob`), its value there and all its knobs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Point {
-    /// `default`, `spp`, `max_depth`, `cutoff`, `precision`, `offset`, `corner` or `reference`.
+    /// `default`, `spp`, `max_depth`, `cutoff`, `precision`, `offset`, `adaptive`,
+    /// `adaptive spp 4`, `corner` or `reference`.
     pub knob: &'static str,
     /// The varied value as text (the corner's name for corners).
     pub value: String,
@@ -110,12 +116,31 @@ pub fn points() -> Vec<Point> {
     for offset in offsets.into_iter().filter(|&x| x != d.offset) {
         add("offset", offset.to_string(), Knobs { offset, ..d });
     }
+    // Adaptive supersampling at the default's samples per pixel, and at 4x4 (from the spp 4
+    // point down): the thresholds from "refine nearly everything" to "refine only hard edges".
+    let thresholds = [0.02, 0.05, 0.1, 0.2, 0.4];
+    for t in thresholds.into_iter().filter(|&t| Some(t) != d.adaptive) {
+        let knobs = Knobs {
+            adaptive: Some(t),
+            ..d
+        };
+        add("adaptive", t.to_string(), knobs);
+    }
+    for t in thresholds {
+        let knobs = Knobs {
+            spp: 4,
+            adaptive: Some(t),
+            ..d
+        };
+        add("adaptive spp 4", t.to_string(), knobs);
+    }
     let cheapest = Knobs {
         spp: 1,
         max_depth: 0,
         cutoff: 0.2,
         precision: Precision::Fast,
         offset: Offset::Epsilon(1e-4),
+        adaptive: None,
     };
     add("corner", "cheapest".into(), cheapest);
     let dearest = Knobs {
@@ -124,6 +149,7 @@ pub fn points() -> Vec<Point> {
         cutoff: 0.0,
         precision: Precision::Double,
         offset: Offset::ErrorBound,
+        adaptive: None,
     };
     add("corner", "most expensive".into(), dearest);
     add("reference", "reference".into(), Knobs::REFERENCE);

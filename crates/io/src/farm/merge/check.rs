@@ -178,7 +178,13 @@ fn settings_detail(tile: Option<&HeaderValue>, first: Option<&HeaderValue>) -> S
             .filter(|l| !lines_t.contains(l))
             .copied()
             .collect();
-        return format!("{} against {}", only.join("; "), theirs.join("; "));
+        // A line one side has and the other lacks (e.g. `adaptive: Some(0.05)`, which a render
+        // without adaptive supersampling leaves out).
+        let side = |lines: Vec<&str>| match lines.is_empty() {
+            true => "no such line".to_string(),
+            false => lines.join("; "),
+        };
+        return format!("{} against {}", side(only), side(theirs));
     }
     format!("{t} against {f}")
 }

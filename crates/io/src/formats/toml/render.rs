@@ -5,7 +5,7 @@
 use super::schema::RenderDoc;
 use lumis_core::geometry::{DEFAULT_EPSILON, Offset, check_cutoff, check_epsilon};
 use lumis_core::math::Vec3;
-use lumis_core::scene::Settings;
+use lumis_core::scene::{Settings, check_adaptive};
 
 /// `base` with every key `r` gives replaced, each checked as the scene format documents it;
 /// the message names the key. The caller runs [`Settings::validate`] on the result.
@@ -31,6 +31,10 @@ pub(super) fn merge(base: &Settings, r: &RenderDoc) -> Result<Settings, String> 
         display: match &r.display {
             Some(name) => name.parse()?,
             None => base.display,
+        },
+        adaptive: match r.adaptive {
+            Some(t) => Some(check_adaptive(t)?),
+            None => base.adaptive,
         },
         ..base.clone()
     })

@@ -53,6 +53,7 @@ pub(super) struct RenderDoc {
     pub epsilon: Option<f32>,
     pub cutoff: Option<f32>,
     pub display: Option<String>,
+    pub adaptive: Option<f32>,
 }
 
 /// `[camera]`.

@@ -8,6 +8,7 @@
 //! | `uv.U/V`            | texture coordinates at the hit; 0 at misses                    |
 //! | `uv.A` (Blender layout only) | 1 where the centre ray hit a surface, 0 at misses     |
 //! | `id.instance`       | index of the instance hit (the scene's list); -1 at misses and on surfaces of no instance |
+//! | `samples`           | pixel samples the pixel took: `spp x spp`, fewer where `--adaptive` kept its base pass |
 //!
 //! `id.instance` is no request: a render writes it whenever its scene has instances (beside
 //! `id.prim`, which is then the prototype's primitive, and `id.object`, the instance's own
@@ -26,6 +27,8 @@ pub struct AovLayers {
     pub position: bool,
     /// `uv.U/V`.
     pub uv: bool,
+    /// `samples`: the pixel samples each pixel took (not from the centre ray).
+    pub samples: bool,
     /// `id.instance`: set from the scene (it has instances), not asked for.
     pub instance: bool,
 }
@@ -40,7 +43,7 @@ struct AovChannel {
     set: Option<fn(&mut PixelAov, f32)>,
 }
 
-const CHANNELS: [AovChannel; 10] = [
+const CHANNELS: [AovChannel; 11] = [
     AovChannel {
         layer: |l| l.albedo,
         name: "albedo.R",
@@ -104,6 +107,13 @@ const CHANNELS: [AovChannel; 10] = [
         get: |a| a.instance_id as f32,
         set: Some(|a, v| a.instance_id = v as i32),
     },
+    // A count, exact in a float up to 2^24 (spp 64 makes 4096).
+    AovChannel {
+        layer: |l| l.samples,
+        name: "samples",
+        get: |a| a.samples as f32,
+        set: Some(|a, v| a.samples = v as u32),
+    },
 ];
 
 /// The table's channels of `layers` in `layout` (`uv.A` only where the layout has it).
@@ -134,6 +144,7 @@ pub(super) fn present(layout: ChannelLayout, has: impl Fn(&str) -> bool) -> AovL
         albedo: first("albedo.R"),
         position: first("P.X"),
         uv: first("uv.U"),
+        samples: first("samples"),
         instance: first("id.instance"),
     }
 }

@@ -13,6 +13,7 @@
 //! | `albedo.R/G/B`   | `ViewLayer.DiffCol.R/G/B`        |
 //! | `P.X/Y/Z`        | `ViewLayer.Position.X/Y/Z`       |
 //! | `uv.U/V`         | `ViewLayer.UV.U/V`, plus `ViewLayer.UV.A` (1 on hits, 0 on misses) |
+//! | `samples`        | `ViewLayer.Debug Sample Count.X` (Cycles' pass of the samples taken) |
 //! | `CryptoObject00.R` | `ViewLayer.CryptoObject00.R` (type name `ViewLayer.CryptoObject`) |
 //! | `diffuse.R/G/B`  | `ViewLayer.DiffDir.R/G/B`        |
 //! | `specular.*`     | `ViewLayer.GlossDir.*`           |
@@ -70,6 +71,7 @@ impl ChannelLayout {
                     "id.object" => "IndexOB.X".to_string(),
                     "id.prim" => "IndexPrim.X".to_string(),
                     "id.instance" => "IndexInstance.X".to_string(),
+                    "samples" => "Debug Sample Count.X".to_string(),
                     // A light's name has no dots (`Scene::light_names`): the channel is last.
                     _ if name.starts_with("light.") => match name[6..].rsplit_once('.') {
                         Some((light, c)) => format!("Combined_{light}.{c}"),
@@ -165,6 +167,7 @@ mod tests {
             ("P.Z", "ViewLayer.Position.Z"),
             ("uv.V", "ViewLayer.UV.V"),
             ("uv.A", "ViewLayer.UV.A"),
+            ("samples", "ViewLayer.Debug Sample Count.X"),
             ("CryptoObject01.B", "ViewLayer.CryptoObject01.B"),
             ("diffuse.R", "ViewLayer.DiffDir.R"),
             ("specular.G", "ViewLayer.GlossDir.G"),
