@@ -210,15 +210,18 @@ impl GroupTest {
             if let Some(interval) = interval
                 && line_hits != 0
             {
+                // Only line hits: the other lanes' values (an uncertain edge, a determinant out
+                // of range) prove nothing, and those lanes go to the scalar test.
                 // SAFETY: SSE is part of the x86-64 baseline.
-                outside = range::outside(
-                    interval,
-                    [e0, e1, e2],
-                    [b0, b1, b2],
-                    [dz_a, dz_b, dz_c],
-                    det,
-                    self.dir_kz,
-                );
+                outside = line_hits
+                    & range::outside(
+                        interval,
+                        [e0, e1, e2],
+                        [b0, b1, b2],
+                        [dz_a, dz_b, dz_c],
+                        det,
+                        self.dir_kz,
+                    );
                 line_hits &= !outside;
             }
             let mut d = Decided {
