@@ -56,7 +56,14 @@ impl Knobs {
 
     /// Writes the knobs into `s`.
     pub fn apply(&self, s: &mut Settings) {
-        (s.spp, s.max_depth, s.cutoff, s.precision, s.offset, s.adaptive) = (
+        (
+            s.spp,
+            s.max_depth,
+            s.cutoff,
+            s.precision,
+            s.offset,
+            s.adaptive,
+        ) = (
             self.spp,
             self.max_depth,
             self.cutoff,
