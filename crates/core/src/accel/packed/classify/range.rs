@@ -158,7 +158,7 @@ mod tests {
         for _ in 0..40_000 {
             let scale = 10f32.powf(signed(&mut rng) * 20.0);
             let centre = Vec3::new(signed(&mut rng), signed(&mut rng), signed(&mut rng)) * scale;
-            let mut corner = |rng: &mut SampleRng| {
+            let corner = |rng: &mut SampleRng| {
                 centre + Vec3::new(signed(rng), signed(rng), signed(rng)) * scale
             };
             let tris: [[Vec3; 3]; LANES] =
