@@ -22,7 +22,7 @@ Tonemap = Literal["none", "filmic"]
 #: The PNG's display transform (`lumis render --display`).
 Display = Literal["srgb", "clamp"]
 #: The extra layers of a render (`lumis render --aov`).
-Aov = Literal["albedo", "position", "uv", "lightpaths", "lights"]
+Aov = Literal["albedo", "position", "uv", "lightpaths", "lights", "samples"]
 
 Float32Array = npt.NDArray[np.float32]
 Float64Array = npt.NDArray[np.float64]
