@@ -398,6 +398,7 @@ class Scene:
         tonemap: Tonemap = "none",
         display: Optional[Display] = None,
         path: Union[PathLike, Sequence[PathLike], None] = None,
+        display_server: Optional[str] = None,
     ) -> Image:
         """Renders the scene as `lumis render` does with the same options and returns the
         EXR's channels (`Image`): exactly the pixels of `lumis render SCENE -o out.exr` with
@@ -411,6 +412,11 @@ class Scene:
         EXR's pixels are the command's; its header lacks the command's provenance attributes
         (`lumis/sceneHash`, `lumis/seed`, `lumis/settings`). The image does not depend on
         `threads`. Raises `SceneError` if the render cannot run (a setting out of range).
+
+        `display_server`: "[HOST:]PORT" of a viewer that speaks tev's protocol (tev listens on
+        "127.0.0.1:14158"), as `--display-server`: the tiles are streamed as they finish, then
+        the image as returned; the image is named after the first `path` (else "lumis"). A
+        viewer that cannot be reached or goes away is a `RuntimeWarning`, never an error.
         """
         if path is None:
             paths: List[str] = []
@@ -422,7 +428,7 @@ class Scene:
             width=width, height=height, spp=spp, max_depth=max_depth, aovs=list(aovs),
             seed=seed, threads=threads, exposure=exposure, accel=accel, precision=precision,
             transparent=transparent, float_rgba=float_rgba, layout=layout, tonemap=tonemap,
-            display=display, paths=paths,
+            display=display, paths=paths, display_server=display_server,
         )
         image = Image()
         for name, plane in r["channels"].items():

@@ -140,6 +140,7 @@ class Scene:
         tonemap: Tonemap = "none",
         display: Optional[Display] = None,
         paths: Sequence[Union[str, PathLike[str]]] = ...,
+        display_server: Optional[str] = None,
     ) -> _Rendered: ...
 
 @final

@@ -4,6 +4,7 @@
 //! the command writes them (staged, then renamed together).
 
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 use numpy::PyArray2;
 use numpy::ndarray::Array2;
@@ -15,6 +16,7 @@ use lumis_core::accel::{AccelKind, BuildOptions};
 use lumis_core::film::{Tonemap, check_finite};
 use lumis_core::render::{RenderOptions, render as render_world, worker_threads};
 use lumis_core::scene::World;
+use lumis_io::display::{DisplayServer, LiveView};
 use lumis_io::output::{
     ChannelLayout, Develop, ExrCamera, ExrMetadata, ExrSamples, StagedOutputs, develop,
     exr_channels,
@@ -39,6 +41,8 @@ pub struct Request {
     pub layout: ChannelLayout,
     pub tonemap: Tonemap,
     pub paths: Vec<PathBuf>,
+    /// Stream the render into this viewer (tev's protocol), as `--display-server`.
+    pub display_server: Option<DisplayServer>,
 }
 
 /// Renders `scene` as `request` says: a dict `{"channels": {name: (H, W) array}, "exposure":
@@ -76,6 +80,30 @@ pub fn render<'py>(
         passes: pass_request(&request.aovs, true),
         ..RenderOptions::default()
     };
+    // Warnings come from the sender thread; they are raised as Python warnings afterwards.
+    let warnings = Arc::new(Mutex::new(Vec::<String>::new()));
+    let live = request.display_server.as_ref().map(|server| {
+        let st = s.settings();
+        let name = request
+            .paths
+            .first()
+            .map_or_else(|| "lumis".to_string(), |p| p.display().to_string());
+        let sink = Arc::clone(&warnings);
+        LiveView::open(
+            server,
+            &name,
+            (st.width, st.height),
+            (0, 0, st.width, st.height),
+            Arc::new(move |m| sink.lock().unwrap_or_else(|e| e.into_inner()).push(m)),
+        )
+    });
+    let opts = match &live {
+        Some(live) => RenderOptions {
+            progress: opts.progress.clone().and(live.clone()),
+            ..opts
+        },
+        None => opts,
+    };
     let kind = request.accel;
     let result = py.detach(|| -> Result<_, String> {
         let options = BuildOptions {
@@ -100,6 +128,9 @@ pub fn render<'py>(
         let developed =
             develop(&mut rendered.film, &camera, &paths, &how, &mut meta).map_err(|e| chain(&e))?;
         check_finite(&rendered.film).map_err(|e| chain(&e))?;
+        if let Some(live) = &live {
+            live.finish_with_exr(&rendered.film, &meta);
+        }
         if !developed.images.is_empty() {
             let mut staged = StagedOutputs::new();
             for (path, bytes) in &developed.images {
@@ -117,6 +148,16 @@ pub fn render<'py>(
         ))
     });
     let (channels, size, exposure, auto) = result.map_err(SceneError::new_err)?;
+    let warned = std::mem::take(&mut *warnings.lock().unwrap_or_else(|e| e.into_inner()));
+    for message in warned {
+        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+        PyErr::warn(
+            py,
+            &category,
+            &std::ffi::CString::new(message).unwrap_or_default(),
+            1,
+        )?;
+    }
     let arrays = PyDict::new(py);
     for (name, samples) in channels {
         match samples {

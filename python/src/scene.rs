@@ -253,7 +253,7 @@ impl PyScene {
 
     /// Renders the scene (see `lumis.Scene.render` for the arguments): a dict with the EXR's
     /// channels, the exposure applied and whether it was automatic.
-    #[pyo3(signature = (*, width=None, height=None, spp=None, max_depth=None, aovs=Vec::new(), seed=0, threads=None, exposure=None, accel="sah", precision=None, transparent=false, float_rgba=false, layout="lumis", tonemap="none", display=None, paths=Vec::new()))]
+    #[pyo3(signature = (*, width=None, height=None, spp=None, max_depth=None, aovs=Vec::new(), seed=0, threads=None, exposure=None, accel="sah", precision=None, transparent=false, float_rgba=false, layout="lumis", tonemap="none", display=None, paths=Vec::new(), display_server=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -274,6 +274,7 @@ impl PyScene {
         tonemap: &str,
         display: Option<&str>,
         paths: Vec<PathBuf>,
+        display_server: Option<&str>,
     ) -> PyResult<Bound<'py, PyDict>> {
         // Checked in this order, so the first bad name is the one reported.
         let aovs = choices::aovs(&aovs)?;
@@ -282,6 +283,12 @@ impl PyScene {
         let display = choices::display(display)?;
         let accel = choices::accel(accel)?;
         let precision = precision.map(choices::precision).transpose()?;
+        let display_server = display_server
+            .map(|s| {
+                lumis_io::display::DisplayServer::parse(s)
+                    .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+            })
+            .transpose()?;
         let request = crate::render::Request {
             settings: SettingsFlags {
                 width,
@@ -301,6 +308,7 @@ impl PyScene {
             layout,
             tonemap,
             paths,
+            display_server,
         };
         crate::render::render(py, self, &request)
     }

@@ -44,6 +44,7 @@ mod hits;
 mod hits_all;
 mod instance_ids;
 mod instances;
+mod live_view;
 mod memory_bombs;
 mod module_flow;
 mod non_regular_files;

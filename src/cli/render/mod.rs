@@ -18,6 +18,7 @@ use clap::Args;
 use lumis_core::film::DisplayTransform;
 use lumis_core::render::{CancelFlag, RenderOptions, render};
 use lumis_core::scene::UpAxis;
+use lumis_io::display::{DisplayServer, LiveView};
 use lumis_io::files::record_inputs;
 use lumis_io::output::{
     Develop, ExrCamera, ExrMetadata, PlannedOutput, StagedOutputs, TileHeader, develop,
@@ -26,6 +27,7 @@ use lumis_io::output::{
 use lumis_io::request::{SceneOrigin, SettingsFlags, check_exposure, exposure_to_apply};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Options of `lumis render` (and of `lumis` with no subcommand).
@@ -126,6 +128,16 @@ pub struct RenderArgs {
     environment: EnvironmentArgs,
     #[command(flatten)]
     frame: FrameArgs,
+    /// Stream the image into a viewer that speaks tev's protocol as it renders ([HOST:]PORT;
+    /// tev listens on 127.0.0.1:14158): tiles as they finish, then the image as the EXR holds
+    /// it. A viewer that is absent, slow or goes away is a warning; the outputs are the same
+    /// bytes either way.
+    #[arg(long, value_name = "[HOST:]PORT", value_parser = display_server)]
+    display_server: Option<DisplayServer>,
+}
+
+fn display_server(s: &str) -> Result<DisplayServer, String> {
+    DisplayServer::parse(s).map_err(|e| e.to_string())
 }
 
 impl RenderArgs {
@@ -233,10 +245,18 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // Without the handler Ctrl-C keeps its default (quit at once), which is still correct.
     let _ = on_ctrl_c(cancel.clone());
     let writes_exr = outputs.iter().any(|p| has_extension(p, "exr"));
+    let live = args
+        .display_server
+        .as_ref()
+        .map(|server| live_view(server, &outputs[0], scene_size(&world), window, args.quiet));
+    let mut progress = super::progress::bar(show_progress);
+    if let Some(live) = &live {
+        progress = progress.and(live.clone());
+    }
     let opts = RenderOptions {
         seed: args.seed,
         threads: super::threads::resolve(args.threads, args.quiet),
-        progress: super::progress::bar(show_progress),
+        progress,
         // Only EXR has depth, normal and id layers: a PNG-only render traces no rays for them.
         aov_layers: outputs.iter().any(|p| has_extension(p, "exr")),
         effects: args.effects,
@@ -298,6 +318,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         staged.stage_bytes(path, json.as_bytes())?;
     }
     staged.commit()?;
+    // The files first: a viewer only ever gets what is already on disk.
+    if let Some(live) = &live {
+        live.finish_with_exr(&rendered.film, &meta);
+    }
     if !args.quiet {
         for path in &outputs {
             eprintln!("wrote {}", path.display());
@@ -315,6 +339,35 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         .into());
     }
     Ok(())
+}
+
+/// The width and height of `world`'s image.
+fn scene_size(world: &lumis_core::scene::World) -> (u32, u32) {
+    let st = world.scene().settings();
+    (st.width, st.height)
+}
+
+/// The live view of a render into `output` (the viewer's image is named after it) of the
+/// `window` of a `full`-sized image; its warnings go to stderr unless `quiet`.
+fn live_view(
+    server: &DisplayServer,
+    output: &Path,
+    full: (u32, u32),
+    window: Option<lumis_core::film::PixelWindow>,
+    quiet: bool,
+) -> Arc<LiveView> {
+    let w = window.unwrap_or(lumis_core::film::PixelWindow::full(full.0, full.1));
+    LiveView::open(
+        server,
+        &output.display().to_string(),
+        full,
+        (w.x0, w.y0, w.width(), w.height()),
+        Arc::new(move |message| {
+            if !quiet {
+                eprintln!("warning: {message}");
+            }
+        }),
+    )
 }
 
 /// The flag `output_paths` gives the `--stats-json` report.

@@ -23,7 +23,7 @@ pub use adaptive::base_strata;
 use centre::centre_aov;
 use passes::PassLayout;
 pub use passes::PassRequest;
-pub use progress::{CancelFlag, ProgressSink, TileProgress};
+pub use progress::{CancelFlag, ProgressSink, TilePixels, TileProgress};
 pub use threads::{MAX_THREADS_PER_CORE, worker_threads};
 
 const TILE: u32 = 16;
@@ -185,7 +185,7 @@ pub fn render(world: &World, opts: &RenderOptions) -> Result<Rendered, RenderErr
                         pass.pixel(x, y, scratch, counts, passes)
                     }),
                 };
-                bar.tile_done();
+                bar.tile_done(&TilePixels::new((tile.x0, tile.y0), tile.w, &tile.pixels));
                 Some(tile)
             })
             .collect();
