@@ -3,7 +3,8 @@
 //! ends, the whole image once more as the EXR holds it, so the viewer ends on the file's pixels.
 //!
 //! The viewer never slows or breaks the render: tiles are copied into an image the sender
-//! thread owns (a slow viewer gets the tiles that piled up as one update), the connection is
+//! thread owns, which sends those finished every 40 ms, a row of tiles per update (a slow
+//! viewer gets the tiles that piled up in fewer, larger updates), the connection is
 //! made on that thread, a refused or dropped connection is a warning (retried a few times,
 //! then given up), writes time out, and [`LiveView::finish`] waits at most about a second.
 //! Nothing here touches the outputs, so they are the same bytes with or without a viewer.

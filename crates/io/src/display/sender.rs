@@ -25,8 +25,10 @@ const RETRY_PAUSE: Duration = Duration::from_millis(200);
 const FINISH_WAIT: Duration = Duration::from_secs(1);
 /// Floats per update packet at most (16 MiB): large images go out in bands of rows.
 const PACKET_FLOATS: usize = 1 << 22;
-/// Above this many tiles waiting, they go out as one update of the rectangle around them.
-const COALESCE_ABOVE: usize = 8;
+/// How often the sender wakes to send the tiles finished since: workers never wake it, so a
+/// render pays one copy per tile and no thread switch, and the viewer gets at most this many
+/// updates per second's fraction.
+const SEND_EVERY: Duration = Duration::from_millis(40);
 /// The channels streamed while the render runs.
 const RGBA: [&str; 4] = ["R", "G", "B", "A"];
 
@@ -50,19 +52,22 @@ struct Rect {
     h: u32,
 }
 
-impl Rect {
-    fn around(rects: &[Rect]) -> Rect {
-        let x0 = rects.iter().map(|r| r.x).min().unwrap_or(0);
-        let y0 = rects.iter().map(|r| r.y).min().unwrap_or(0);
-        let x1 = rects.iter().map(|r| r.x + r.w).max().unwrap_or(0);
-        let y1 = rects.iter().map(|r| r.y + r.h).max().unwrap_or(0);
-        Rect {
-            x: x0,
-            y: y0,
-            w: x1 - x0,
-            h: y1 - y0,
+/// The tiles `rects` as one update per row of tiles: the span from the row's leftmost to its
+/// rightmost waiting tile (tiles finish in rows, so little is sent twice).
+fn by_rows(mut rects: Vec<Rect>) -> Vec<Rect> {
+    rects.sort_unstable_by_key(|r| (r.y, r.h, r.x));
+    let mut rows: Vec<Rect> = Vec::new();
+    for r in rects {
+        match rows.last_mut() {
+            Some(row) if row.y == r.y && row.h == r.h => {
+                let end = (row.x + row.w).max(r.x + r.w);
+                row.x = row.x.min(r.x);
+                row.w = end - row.x;
+            }
+            _ => rows.push(r),
         }
     }
+    rows
 }
 
 struct Shared {
@@ -225,7 +230,6 @@ impl TileProgress for LiveView {
                 h: tile.height,
             });
         }
-        self.shared.wake.notify_all();
     }
 }
 
@@ -314,15 +318,16 @@ impl Shared {
         loop {
             let mut st = self.lock();
             while st.dirty.is_empty() && st.finished.is_none() && !st.closed {
-                st = self.wake.wait(st).unwrap_or_else(|e| e.into_inner());
+                st = self
+                    .wake
+                    .wait_timeout(st, SEND_EVERY)
+                    .unwrap_or_else(|e| e.into_inner())
+                    .0;
             }
             if !st.dirty.is_empty() {
-                let mut rects = std::mem::take(&mut st.dirty);
+                let rects = std::mem::take(&mut st.dirty);
                 drop(st);
-                if rects.len() > COALESCE_ABOVE {
-                    rects = vec![Rect::around(&rects)];
-                }
-                for r in rects {
+                for r in by_rows(rects) {
                     self.send_rgba(stream, r)?;
                 }
                 continue;
@@ -421,4 +426,73 @@ fn send(stream: &mut TcpStream, packet: &[u8]) -> Result<(), Lost> {
         ErrorKind::WouldBlock | ErrorKind::TimedOut => Lost::Stalled,
         _ => Lost::Dropped(e),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn waiting_tiles_go_out_a_row_at_a_time() {
+        let t = |x, y| Rect { x, y, w: 16, h: 16 };
+        let rows = by_rows(vec![t(32, 16), t(0, 0), t(48, 16), t(16, 0), t(0, 32)]);
+        let want = [
+            Rect {
+                x: 0,
+                y: 0,
+                w: 32,
+                h: 16,
+            },
+            Rect {
+                x: 32,
+                y: 16,
+                w: 32,
+                h: 16,
+            },
+            Rect {
+                x: 0,
+                y: 32,
+                w: 16,
+                h: 16,
+            },
+        ];
+        assert_eq!(rows, want);
+        // A clipped last column keeps its own width.
+        let rows = by_rows(vec![
+            Rect {
+                x: 64,
+                y: 0,
+                w: 8,
+                h: 16,
+            },
+            t(48, 0),
+        ]);
+        assert_eq!(
+            rows,
+            [Rect {
+                x: 48,
+                y: 0,
+                w: 24,
+                h: 16
+            }]
+        );
+    }
+
+    #[test]
+    fn bands_cover_the_rows_once() {
+        let r = Rect {
+            x: 0,
+            y: 3,
+            w: 4096,
+            h: 2000,
+        };
+        let b: Vec<(u32, u32)> = bands(r, 16).collect();
+        assert_eq!(b.first().unwrap().0, 3);
+        assert_eq!(b.iter().map(|x| x.1).sum::<u32>(), 2000);
+        assert!(
+            b.iter()
+                .all(|&(_, rows)| rows as usize * 4096 * 16 <= PACKET_FLOATS)
+        );
+        assert!(b.windows(2).all(|w| w[0].0 + w[0].1 == w[1].0));
+    }
 }
