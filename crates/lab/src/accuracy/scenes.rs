@@ -30,7 +30,7 @@ pub const PAPER: [&str; 3] = [
     "tumbledStones.scn",
 ];
 
-/// The mesh-heavy asset of the default set, relative to the crate root.
+/// The mesh-heavy asset of the default set, relative to the workspace root.
 pub const MESH_ASSET: &str = "assets/knot.obj";
 
 /// The default set; paper scenes missing from `paper_dir` are skipped with a warning so the
@@ -45,7 +45,10 @@ pub fn default_set(paper_dir: &Path) -> Result<Vec<BenchScene>> {
             eprintln!("warning: {} not found, skipped", path.display());
         }
     }
-    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join(MESH_ASSET);
+    // This crate is crates/lab of the workspace; the asset is the workspace's.
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(MESH_ASSET);
     if mesh.exists() {
         out.push(resolve(&mesh.to_string_lossy(), paper_dir)?);
     } else {
@@ -217,4 +220,19 @@ pub fn far_spheres() -> Scene {
     .expect("a valid camera");
     b.build(cam)
         .expect("the accuracy scenes are within the value limits")
+}
+
+#[cfg(test)]
+mod mesh_asset_tests {
+    use super::*;
+
+    #[test]
+    fn the_default_set_finds_its_mesh() {
+        let set = default_set(Path::new("/nonexistent")).unwrap();
+        assert!(
+            set.iter().any(|s| s.name == "knot.obj"),
+            "{:?}",
+            set.iter().map(|s| &s.name).collect::<Vec<_>>()
+        );
+    }
 }
