@@ -23,6 +23,7 @@ mod cli_flags;
 mod cli_models;
 mod contains;
 mod cryptomatte;
+mod docs;
 mod effects;
 mod environment;
 mod exr_compositing;

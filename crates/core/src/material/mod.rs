@@ -1,7 +1,7 @@
 //! Whitted materials: Lambert diffuse, Phong specular, mirror reflection, Fresnel refraction,
 //! emission.
 //!
-//! Outgoing radiance at a hit (documented in the README):
+//! Outgoing radiance at a hit (documented in docs/shading.md):
 //! `Le + ambient*kd + sum over unshadowed lights of (kd/pi * cos + ks*(n+2)/(2pi)*cos_r^n) * E
 //!  + reflectivity * L(mirror) + transmission * (F * L(mirror) + (1 - F) * L(refracted))`.
 //!
