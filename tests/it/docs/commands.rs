@@ -27,7 +27,8 @@ fn command_lines(text: &str) -> Vec<Vec<String>> {
             ["lumis", rest @ ..] => rest,
             _ => continue,
         };
-        out.push(args.iter().map(|s| s.to_string()).collect());
+        // Single quotes only group, as the shell's do (the examples quote no spaces).
+        out.push(args.iter().map(|s| s.replace('\'', "")).collect());
     }
     out
 }
@@ -48,29 +49,70 @@ fn readme() -> String {
     std::fs::read_to_string(repo().join("README.md")).unwrap()
 }
 
+/// Panics unless every flag of command line `args` (a synopsis's `[--a X | --b]` included) is
+/// one `--help` of its command lists.
+fn assert_flags_known(args: &[String], origin: &str) {
+    let sub = args
+        .first()
+        .filter(|a| SUBCOMMANDS.contains(&a.as_str()))
+        .map_or("render", String::as_str);
+    let help = help(sub);
+    let words = args
+        .iter()
+        .flat_map(|a| a.split('|'))
+        .map(|a| a.trim_matches(|c| c == '[' || c == ']'));
+    for flag in words.filter(|a| a.starts_with('-') && a.len() > 1) {
+        let flag = flag.split('=').next().unwrap();
+        let known = [" ", ",", "\n", "="]
+            .iter()
+            .any(|end| help.contains(&format!("{flag}{end}")));
+        assert!(
+            known,
+            "{origin}: `lumis {sub} --help` has no {flag} ({args:?})"
+        );
+    }
+}
+
+/// A synopsis rather than a command: placeholders, alternatives or optional parts.
+fn is_synopsis(args: &[String]) -> bool {
+    args.iter().any(|a| {
+        a.contains(['[', ']', '|'])
+            || a.contains("...")
+            || a.chars().all(|c| c.is_ascii_uppercase())
+    })
+}
+
 #[test]
 fn the_readmes_flags_are_the_commands() {
     let lines = command_lines(&readme());
     assert!(lines.len() >= 2, "{lines:?}");
     for args in lines {
-        let sub = args
-            .first()
-            .filter(|a| SUBCOMMANDS.contains(&a.as_str()))
-            .map_or("render", String::as_str);
-        let help = help(sub);
-        for flag in args.iter().filter(|a| a.starts_with('-')) {
-            let flag = flag.split('=').next().unwrap();
-            let known = help.contains(&format!("{flag} "))
-                || help.contains(&format!("{flag},"))
-                || help.contains(&format!("{flag}\n"));
-            assert!(known, "`lumis {sub} --help` has no {flag} ({args:?})");
-        }
+        assert_flags_known(&args, "README.md");
     }
 }
 
 #[test]
-fn the_readmes_commands_run_as_written() {
-    // The checkout's layout: the repository's folders, the paper's scenes beside it.
+fn the_docs_command_lines_parse_and_run() {
+    let (_root, checkout) = checkout_copy();
+    let mut ran = 0;
+    let docs = super::documents();
+    for doc in docs.iter().filter(|d| d.starts_with(repo().join("docs"))) {
+        let text = std::fs::read_to_string(doc).unwrap();
+        let name = doc.file_name().unwrap().to_string_lossy().into_owned();
+        for args in command_lines(&text) {
+            assert_flags_known(&args, &name);
+            if !is_synopsis(&args) && run_if_possible(&checkout, &args) {
+                ran += 1;
+            }
+        }
+    }
+    assert!(ran >= 5, "only {ran} docs commands ran");
+}
+
+/// A copy of the checkout's layout in a temporary folder: the repository's asset folders, and
+/// the paper's scenes beside it when this checkout has them. Returns the folder and the
+/// checkout in it.
+fn checkout_copy() -> (tempfile::TempDir, std::path::PathBuf) {
     let root = tempfile::tempdir().unwrap();
     let checkout = root.path().join("lumis");
     std::fs::create_dir(&checkout).unwrap();
@@ -81,23 +123,40 @@ fn the_readmes_commands_run_as_written() {
     if shared.exists() {
         std::os::unix::fs::symlink(&shared, root.path().join("shared")).unwrap();
     }
+    (root, checkout)
+}
+
+/// Runs `lumis ARGS` in `checkout` and checks it succeeded and wrote its `-o` outputs; false
+/// (not run) when it needs the paper's scenes and they are not there.
+fn run_if_possible(checkout: &Path, args: &[String]) -> bool {
+    if args.iter().any(|a| a.contains("../shared")) && !checkout.join("../shared").exists() {
+        eprintln!("skipped (no ../shared): lumis {}", args.join(" "));
+        return false;
+    }
+    let out = Command::new(binary())
+        .args(args)
+        .current_dir(checkout)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "lumis {}: exit {:?}\n{}",
+        args.join(" "),
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for o in args.windows(2).filter(|w| w[0] == "-o").map(|w| &w[1]) {
+        let len = std::fs::metadata(checkout.join(o)).map_or(0, |m| m.len());
+        assert!(len > 0, "lumis {}: no {o}", args.join(" "));
+    }
+    true
+}
+
+#[test]
+fn the_readmes_commands_run_as_written() {
+    let (_root, checkout) = checkout_copy();
     for args in command_lines(&readme()) {
-        if args.iter().any(|a| a.contains("../shared")) && !shared.exists() {
-            eprintln!("skipped (no ../shared): lumis {}", args.join(" "));
-            continue;
-        }
-        let out = Command::new(binary())
-            .args(&args)
-            .current_dir(&checkout)
-            .output()
-            .unwrap();
-        assert_ok(&out);
-        // Each names its outputs with -o: they are there and not empty.
-        let outputs = args.windows(2).filter(|w| w[0] == "-o").map(|w| &w[1]);
-        for o in outputs {
-            let len = std::fs::metadata(checkout.join(o)).map_or(0, |m| m.len());
-            assert!(len > 0, "lumis {}: no {o}", args.join(" "));
-        }
+        run_if_possible(&checkout, &args);
     }
     // The compositing example writes what it says: albedo and Cryptomatte, Blender's names.
     let image = crate::common::exr::read_exr(&checkout.join("materials.exr"));
