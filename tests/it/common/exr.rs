@@ -29,3 +29,13 @@ pub fn channel(image: &FlatImage, name: &str) -> Vec<f32> {
         other => panic!("{name} is not FLOAT: {other:?}"),
     }
 }
+
+/// The channel names of the first layer, in the file's order.
+pub fn channel_names(image: &FlatImage) -> Vec<String> {
+    image.layer_data[0]
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect()
+}

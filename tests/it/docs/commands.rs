@@ -160,12 +160,7 @@ fn the_readmes_commands_run_as_written() {
     }
     // The compositing example writes what it says: albedo and Cryptomatte, Blender's names.
     let image = crate::common::exr::read_exr(&checkout.join("materials.exr"));
-    let names: Vec<String> = image.layer_data[0]
-        .channel_data
-        .list
-        .iter()
-        .map(|c| c.name.to_string())
-        .collect();
+    let names = crate::common::exr::channel_names(&image);
     for want in [
         "ViewLayer.DiffCol.R",
         "ViewLayer.CryptoObject00.R",

@@ -230,12 +230,7 @@ fn a_scene_without_instances_gets_no_instance_channel() {
             .unwrap();
         assert_ok(&run);
         let image = read_flat(&out);
-        let names: Vec<String> = image.layer_data[0]
-            .channel_data
-            .list
-            .iter()
-            .map(|c| c.name.to_string())
-            .collect();
+        let names = crate::common::exr::channel_names(&image);
         assert!(
             names
                 .iter()
