@@ -1,8 +1,10 @@
 //! `lumis info FILE`: what a scene or model file holds, without rendering.
 
 use anyhow::Result;
+use lumis_core::camera::Lens;
 use lumis_core::effects::{Analysis, EffectMode};
 use lumis_core::integrator::effects_text;
+use lumis_core::light::Light;
 use lumis_core::scene::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -68,12 +70,12 @@ fn describe(path: &Path, scene: &Scene) -> String {
     }
     let _ = writeln!(s, "lights: {}", scene.lights().len());
     for (light, name) in scene.lights().iter().zip(scene.light_names()) {
-        let _ = writeln!(s, "  {name}: {light:?}");
+        let _ = writeln!(s, "  {name}: {}", describe_light(light));
     }
     let cam = scene.camera();
     let _ = writeln!(
         s,
-        "camera: {} at {} looking along {} (lens {:?})",
+        "camera: {} at {} looking along {} ({})",
         if cam.is_orthographic() {
             "orthographic"
         } else {
@@ -81,7 +83,7 @@ fn describe(path: &Path, scene: &Scene) -> String {
         },
         cam.position(),
         cam.forward(),
-        cam.lens()
+        describe_lens(cam.lens())
     );
     if let Some(f) = scene.frame() {
         let rate = f.rate();
@@ -110,4 +112,88 @@ fn describe(path: &Path, scene: &Scene) -> String {
         let _ = writeln!(s, "  {w}");
     }
     s
+}
+
+/// A light in the scene format's words (what `intensity` and `color` make, per kind).
+fn describe_light(light: &Light) -> String {
+    match *light {
+        Light::Point {
+            position,
+            intensity,
+        } => format!("point light at {position}, intensity {intensity} (color x intensity)"),
+        Light::Unattenuated {
+            position,
+            irradiance,
+        } => format!(
+            "point light without distance falloff (a .scn light) at {position}, irradiance \
+             {irradiance}"
+        ),
+        Light::Directional {
+            direction,
+            irradiance,
+        } => format!("directional light along {direction}, irradiance {irradiance}"),
+        Light::Spot {
+            position,
+            direction,
+            intensity,
+            cos_inner,
+            cos_outer,
+        } => format!(
+            "spot light at {position} along {direction}, intensity {intensity}, cone {:.2} \
+             degrees inside and {:.2} degrees outside",
+            cos_inner.clamp(-1.0, 1.0).acos().to_degrees(),
+            cos_outer.clamp(-1.0, 1.0).acos().to_degrees()
+        ),
+    }
+}
+
+/// The camera's lens in the scene format's words.
+fn describe_lens(lens: Lens) -> String {
+    match lens {
+        Lens::Pinhole => "pinhole, no depth of field".to_string(),
+        Lens::Disk(radius) => format!("thin lens of radius {radius}"),
+        Lens::Square(size) => format!("square lens of side {size} (the .scn dispersion)"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lumis_core::math::Vec3;
+
+    #[test]
+    fn lights_and_lenses_read_as_words() {
+        let v = Vec3::new(1.0, 2.0, 3.0);
+        let lights = [
+            Light::Point {
+                position: v,
+                intensity: v,
+            },
+            Light::Unattenuated {
+                position: v,
+                irradiance: v,
+            },
+            Light::Directional {
+                direction: v,
+                irradiance: v,
+            },
+            Light::Spot {
+                position: v,
+                direction: v,
+                intensity: v,
+                cos_inner: 1.0,
+                cos_outer: 0.5,
+            },
+        ];
+        for text in lights.iter().map(describe_light).chain(
+            [Lens::Pinhole, Lens::Disk(0.1), Lens::Square(5.0)]
+                .into_iter()
+                .map(describe_lens),
+        ) {
+            for debug in ["{ ", "Vec3(", "Some(", "Square(", "Disk("] {
+                assert!(!text.contains(debug), "{text}");
+            }
+        }
+        assert!(describe_light(&lights[3]).contains("cone 0.00 degrees inside and 60.00"));
+    }
 }

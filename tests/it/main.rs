@@ -48,6 +48,7 @@ mod instances;
 mod live_view;
 mod memory_bombs;
 mod module_flow;
+mod no_debug_output;
 mod non_regular_files;
 mod obj_mtl;
 mod output_safety;
