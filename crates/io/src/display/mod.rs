@@ -11,8 +11,9 @@
 
 mod packets;
 mod sender;
+mod view;
 
-pub use sender::LiveView;
+pub use view::{LiveView, Warn};
 
 use std::fmt;
 

@@ -3,14 +3,11 @@
 
 use super::DisplayServer;
 use super::packets::{Region, create_image, update_image};
-use crate::output::{ExrMetadata, ExrSamples, exr_channels};
-use lumis_core::film::Film;
-use lumis_core::render::{TilePixels, TileProgress};
+use super::view::Warn;
 use std::io::{ErrorKind, Write};
 use std::net::{TcpStream, ToSocketAddrs};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::sync::atomic::AtomicBool;
+use std::sync::{Condvar, Mutex, MutexGuard};
 use std::time::Duration;
 
 /// How long one connection attempt may take.
@@ -22,7 +19,7 @@ const ATTEMPTS: u32 = 3;
 /// The pause between two attempts.
 const RETRY_PAUSE: Duration = Duration::from_millis(200);
 /// The longest [`LiveView::finish`] waits for the viewer to take the finished image.
-const FINISH_WAIT: Duration = Duration::from_secs(1);
+pub(super) const FINISH_WAIT: Duration = Duration::from_secs(1);
 /// Floats per update packet at most (16 MiB): large images go out in bands of rows.
 const PACKET_FLOATS: usize = 1 << 22;
 /// How often the sender wakes to send the tiles finished since: workers never wake it, so a
@@ -31,25 +28,13 @@ const PACKET_FLOATS: usize = 1 << 22;
 const SEND_EVERY: Duration = Duration::from_millis(40);
 /// The channels streamed while the render runs.
 const RGBA: [&str; 4] = ["R", "G", "B", "A"];
-
-/// Where the live view's warnings go (the command line prints them).
-pub type Warn = Arc<dyn Fn(String) + Send + Sync>;
-
-/// A render's live view in a viewer: a [`TileProgress`] listener that streams each finished
-/// tile (see the module). Make it with [`LiveView::open`], give it to the render's progress
-/// sink, and call [`LiveView::finish`] with the image as written when the render is over.
-pub struct LiveView {
-    shared: Arc<Shared>,
-    done: Mutex<Option<Receiver<()>>>,
-}
-
 /// A rectangle of pixels in the full image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Rect {
-    x: u32,
-    y: u32,
-    w: u32,
-    h: u32,
+pub(super) struct Rect {
+    pub(super) x: u32,
+    pub(super) y: u32,
+    pub(super) w: u32,
+    pub(super) h: u32,
 }
 
 /// The tiles `rects` as one update per row of tiles: the span from the row's leftmost to its
@@ -70,29 +55,29 @@ fn by_rows(mut rects: Vec<Rect>) -> Vec<Rect> {
     rows
 }
 
-struct Shared {
-    server: DisplayServer,
-    name: String,
-    full: (u32, u32),
+pub(super) struct Shared {
+    pub(super) server: DisplayServer,
+    pub(super) name: String,
+    pub(super) full: (u32, u32),
     /// The pixels this render makes (a crop or a farm tile: part of the full image).
-    window: Rect,
-    state: Mutex<State>,
-    wake: Condvar,
+    pub(super) window: Rect,
+    pub(super) state: Mutex<State>,
+    pub(super) wake: Condvar,
     /// The sender gave up: tiles are no longer copied.
-    gone: AtomicBool,
-    warn: Warn,
+    pub(super) gone: AtomicBool,
+    pub(super) warn: Warn,
 }
 
 /// What the workers hand the sender.
-struct State {
+pub(super) struct State {
     /// The window's RGBA so far, interleaved.
-    rgba: Vec<f32>,
+    pub(super) rgba: Vec<f32>,
     /// Tiles finished and not yet sent.
-    dirty: Vec<Rect>,
+    pub(super) dirty: Vec<Rect>,
     /// The finished image, each channel over the window, to send once the tiles are out.
-    finished: Option<Vec<(String, Vec<f32>)>>,
+    pub(super) finished: Option<Vec<(String, Vec<f32>)>>,
     /// Nothing more will come.
-    closed: bool,
+    pub(super) closed: bool,
 }
 
 /// Why a connection ended early.
@@ -103,145 +88,15 @@ enum Lost {
     Stalled,
 }
 
-impl LiveView {
-    /// Starts streaming image `name` (`full` pixels wide and high, of which the render makes
-    /// `window`: `(x0, y0, width, height)`) to `server` on a thread of its own; `warn` is told
-    /// when the viewer cannot be reached or is lost. Never fails: without a viewer the render
-    /// goes on with a warning.
-    pub fn open(
-        server: &DisplayServer,
-        name: &str,
-        full: (u32, u32),
-        window: (u32, u32, u32, u32),
-        warn: Warn,
-    ) -> Arc<Self> {
-        let (x, y, w, h) = window;
-        let shared = Arc::new(Shared {
-            server: server.clone(),
-            name: name.to_string(),
-            full,
-            window: Rect { x, y, w, h },
-            state: Mutex::new(State {
-                rgba: vec![0.0; w as usize * h as usize * 4],
-                dirty: Vec::new(),
-                finished: None,
-                closed: false,
-            }),
-            wake: Condvar::new(),
-            gone: AtomicBool::new(false),
-            warn,
-        });
-        let (tx, rx) = channel::<()>();
-        let theirs = Arc::clone(&shared);
-        let spawned = std::thread::Builder::new()
-            .name("lumis-display".into())
-            .spawn(move || {
-                theirs.serve();
-                theirs.gone.store(true, Ordering::Relaxed);
-                drop(tx);
-            });
-        if let Err(e) = spawned {
-            shared.gone.store(true, Ordering::Relaxed);
-            (shared.warn)(format!("could not start the live view's thread: {e}"));
-        }
-        Arc::new(Self {
-            shared,
-            done: Mutex::new(Some(rx)),
-        })
-    }
-
-    /// [`LiveView::finish`] with the channels of the EXR that `film` (developed: exposed) and
-    /// `meta` make, as stored (half values as the file rounds them).
-    pub fn finish_with_exr(&self, film: &Film, meta: &ExrMetadata) {
-        let channels = exr_channels(film, meta)
-            .into_iter()
-            .map(|(name, samples)| {
-                let values = match samples {
-                    ExrSamples::F16(v) => v.iter().map(|h| h.to_f32()).collect(),
-                    ExrSamples::F32(v) => v,
-                    ExrSamples::U32(v) => v.iter().map(|&u| u as f32).collect(),
-                };
-                (name, values)
-            })
-            .collect();
-        self.finish(channels);
-    }
-
-    /// Sends the finished image, `channels` each over the window as the EXR holds them (names
-    /// as in the file), after the tiles still waiting; waits at most about a second for the
-    /// viewer to take it.
-    pub fn finish(&self, channels: Vec<(String, Vec<f32>)>) {
-        {
-            let mut st = self.shared.lock();
-            st.finished = Some(channels);
-            st.closed = true;
-        }
-        self.shared.wake.notify_all();
-        let Some(done) = self.done.lock().ok().and_then(|mut d| d.take()) else {
-            return;
-        };
-        if let Err(RecvTimeoutError::Timeout) = done.recv_timeout(FINISH_WAIT) {
-            (self.shared.warn)(format!(
-                "the display server at {} did not take the finished image within a second; \
-                 it may show an unfinished one",
-                self.shared.server
-            ));
-        }
-    }
-}
-
-impl Drop for LiveView {
-    fn drop(&mut self) {
-        self.shared.lock().closed = true;
-        self.shared.wake.notify_all();
-    }
-}
-
-impl TileProgress for LiveView {
-    fn start(&self, _tiles: u64) {}
-    fn tile_done(&self) {}
-    fn finish(&self) {}
-
-    fn tile_pixels(&self, tile: &TilePixels<'_>) {
-        if self.shared.gone.load(Ordering::Relaxed) {
-            return;
-        }
-        let win = self.shared.window;
-        let inside = tile.x0 >= win.x
-            && tile.y0 >= win.y
-            && tile.x0 + tile.width <= win.x + win.w
-            && tile.y0 + tile.height <= win.y + win.h;
-        if !inside || tile.width == 0 {
-            return;
-        }
-        {
-            let mut st = self.shared.lock();
-            let (dx, dy) = ((tile.x0 - win.x) as usize, (tile.y0 - win.y) as usize);
-            let stride = win.w as usize;
-            for (i, p) in tile.rgba().enumerate() {
-                let (c, r) = (i % tile.width as usize, i / tile.width as usize);
-                let at = ((dy + r) * stride + dx + c) * 4;
-                st.rgba[at..at + 4].copy_from_slice(&p.to_array());
-            }
-            st.dirty.push(Rect {
-                x: tile.x0,
-                y: tile.y0,
-                w: tile.width,
-                h: tile.height,
-            });
-        }
-    }
-}
-
 impl Shared {
-    fn lock(&self) -> MutexGuard<'_, State> {
+    pub(super) fn lock(&self) -> MutexGuard<'_, State> {
         // A panic elsewhere while holding the lock leaves plain pixel data: still usable.
         self.state.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// The sender thread: connect, stream, reconnect after a drop, give up after
     /// [`ATTEMPTS`] connections or a viewer that stopped reading.
-    fn serve(&self) {
+    pub(super) fn serve(&self) {
         let mut attempts = 0;
         while attempts < ATTEMPTS {
             let Some(mut stream) = self.connect(&mut attempts) else {
@@ -359,16 +214,28 @@ impl Shared {
                     })
                     .collect()
             };
-            let region = Region {
-                x: r.x,
-                y,
-                width: r.w,
-                height: rows,
-                values: &values,
-            };
-            send(stream, &update_image(&self.name, &RGBA, &region))?;
+            self.send_rows(stream, &RGBA, r, (y, rows), &values)?;
         }
         Ok(())
+    }
+
+    /// Rows `y..y + rows` of the columns of `r`, `values` interleaved over `names`.
+    fn send_rows(
+        &self,
+        stream: &mut TcpStream,
+        names: &[&str],
+        r: Rect,
+        (y, rows): (u32, u32),
+        values: &[f32],
+    ) -> Result<(), Lost> {
+        let region = Region {
+            x: r.x,
+            y,
+            width: r.w,
+            height: rows,
+            values,
+        };
+        send(stream, &update_image(&self.name, names, &region))
     }
 
     /// The finished image, every channel as the file holds it: the image is made again with
@@ -398,14 +265,7 @@ impl Shared {
                         .map(|(_, v)| v.get(p).copied().unwrap_or(0.0)),
                 );
             }
-            let region = Region {
-                x: win.x,
-                y,
-                width: win.w,
-                height: rows,
-                values: &values,
-            };
-            send(stream, &update_image(&self.name, &names, &region))?;
+            self.send_rows(stream, &names, win, (y, rows), &values)?;
         }
         Ok(())
     }
