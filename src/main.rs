@@ -1,7 +1,7 @@
 //! The `lumis` command line: `lumis [render] [SCENE] ...`. Parses and dispatches; each
 //! subcommand lives in its own module under `cli/`.
 
-use clap::{Parser, Subcommand};
+use clap::{ArgMatches, CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::path::PathBuf;
 
 mod cli;
@@ -43,16 +43,19 @@ enum Command {
 }
 
 fn main() {
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    // The render's header records its flags as given, read from the matches.
+    let render_matches: &ArgMatches = matches.subcommand_matches("render").unwrap_or(&matches);
     let result = match &cli.command {
-        Some(Command::Render(args)) => render::run(args),
+        Some(Command::Render(args)) => render::run(args, render_matches),
         Some(Command::Info {
             file,
             flatten_instances,
         }) => info::run(file, *flatten_instances),
         Some(Command::Hits(args)) => hits::run(args),
         Some(Command::Merge(args)) => merge::run(args),
-        None => render::run(&cli.render),
+        None => render::run(&cli.render, &matches),
     };
     if let Err(e) = result {
         if let Some(stop) = e.downcast_ref::<cli::interrupt::Interrupted>() {

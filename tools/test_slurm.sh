@@ -77,6 +77,9 @@ help=$("$lumis" render --help) || fail "$lumis render --help failed"
 # The paper's scene beside the checkout in CI (../shared), else the repo's own.
 scene=$repo/../shared/paper-scenes/scenes/ballsOnAPlane.scn
 [ -f "$scene" ] || scene=$repo/scenes/default.toml
+# submit.sh hands the tiles the scene's real path, and the header records the path as given
+# (lumis/replay): the reference render names it the same way.
+scene=$(realpath -- "$scene")
 flags=(--width 160 --height 96)
 tiles=4
 

@@ -59,6 +59,7 @@ mod png_output;
 mod query_fuzz;
 mod ray_domain;
 mod render_known_answers;
+mod replay;
 mod scene_loading;
 mod scn_loading;
 mod toml_instances;

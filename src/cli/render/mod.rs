@@ -2,6 +2,8 @@
 //! settings the flags override and a summary of the run.
 
 mod identity;
+mod record;
+mod replay;
 
 use super::accel::AccelArgs;
 use super::accuracy::{AccuracyArgs, CutoffArgs};
@@ -134,6 +136,12 @@ pub struct RenderArgs {
     /// bytes either way.
     #[arg(long, value_name = "[HOST:]PORT", value_parser = display_server)]
     display_server: Option<DisplayServer>,
+    /// Render again the image IMAGE.exr was rendered from, by its header: the same scene file,
+    /// flags, seed, tile or frame (outputs, threads and reporting are this command's). Refused
+    /// when an input file changed or is gone, or another lumis version made it. Writes the
+    /// same bytes (unless it was made with --timing-metadata or cut short).
+    #[arg(long, value_name = "IMAGE.exr", conflicts_with = "scene")]
+    from: Option<PathBuf>,
 }
 
 fn display_server(s: &str) -> Result<DisplayServer, String> {
@@ -149,8 +157,13 @@ impl RenderArgs {
     }
 }
 
-/// Loads, overrides the settings from the flags, builds, renders, exposes and writes.
-pub fn run(args: &RenderArgs) -> Result<()> {
+/// Loads, overrides the settings from the flags, builds, renders, exposes and writes;
+/// `matches` are the flags as given (recorded in the EXR header). With `--from`, replays the
+/// image's own command instead.
+pub fn run(args: &RenderArgs, matches: &clap::ArgMatches) -> Result<()> {
+    if let Some(image) = &args.from {
+        return replay::run(args, matches, image);
+    }
     let mut times = PhaseTimes::default();
     let t = Instant::now();
     let defines = args.defines()?;
@@ -218,7 +231,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         .as_deref()
         .map_or(SceneOrigin::BuiltIn, SceneOrigin::File);
     let fixed_exposure = exposure_to_apply(args.exposure, origin, st.exposure);
-    let identity = args.identity(&inputs, st, fixed_exposure)?;
+    let identity = args.identity(&inputs, st, matches)?;
     let tile_output = args
         .window
         .tile

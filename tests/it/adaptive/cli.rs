@@ -100,9 +100,9 @@ fn tiles_merge_to_the_single_render_and_other_thresholds_are_refused() {
     for (other, expected) in [
         (
             vec!["--adaptive", "0.1"],
-            "adaptive: Some(0.1) against adaptive: Some(0.05)",
+            "render.adaptive: 0.1 against 0.05",
         ),
-        (vec![], "no such line against adaptive: Some(0.05)"),
+        (vec![], "render.adaptive: absent against 0.05"),
     ] {
         let mut a = vec!["render", "-q", "--tile", "1/3", "-o", "foreign.exr"];
         a.extend_from_slice(&["--spp", "3", "--aov", "samples"]);

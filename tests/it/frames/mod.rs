@@ -254,9 +254,10 @@ rotate = [0.0, 0.0, 90.0]
 }
 
 /// Removes and returns `lumis/sceneHash` (a hash of the scene file, which differs between two
-/// files that describe the same frame).
+/// files that describe the same frame), and removes `lumis/replay` (which names the file).
 fn without_scene_hash(image: &mut FlatImage) -> Option<AttributeValue> {
     let other = &mut image.layer_data[0].attributes.other;
+    other.remove(&Text::from(lumis_io::output::ATTR_REPLAY));
     other.remove(&Text::from(lumis_io::output::ATTR_SCENE_HASH))
 }
 

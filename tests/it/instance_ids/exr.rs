@@ -47,7 +47,8 @@ fn meta(layout: ChannelLayout) -> ExrMetadata {
         identity: Some(RenderIdentity {
             scene_hash: "instance ids".into(),
             seed: 7,
-            settings: "64x32".into(),
+            settings: r#"{"render": {"width": 64, "height": 32}}"#.into(),
+            replay: None,
         }),
         ..ExrMetadata::default()
     }

@@ -7,6 +7,7 @@
 //! load options do.
 
 use std::io::{self, Read};
+use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
 
@@ -16,20 +17,12 @@ use crate::files::InputFile;
 /// makes of every option that changes what is loaded: `-D` overrides, glTF scene and camera
 /// choice, up axis; for the built-in scene, a name for it).
 pub fn scene_hash(inputs: &[InputFile], load_options: &str) -> io::Result<String> {
-    let mut digests = Vec::with_capacity(inputs.len());
-    for input in inputs {
-        let mut file = std::fs::File::open(&input.path)?;
-        let mut hasher = Sha256::new();
-        let mut buffer = vec![0u8; 1 << 16];
-        loop {
-            let n = file.read(&mut buffer)?;
-            if n == 0 {
-                break;
-            }
-            hasher.update(&buffer[..n]);
-        }
-        digests.push(hex(&hasher.finalize()));
-    }
+    let digests: Vec<String> = file_digests(inputs)?.into_iter().map(|(_, d)| d).collect();
+    Ok(scene_hash_of(digests, load_options))
+}
+
+/// [`scene_hash`] from the files' digests ([`file_digests`]), in any order.
+pub fn scene_hash_of(mut digests: Vec<String>, load_options: &str) -> String {
     digests.sort_unstable();
     let mut hasher = Sha256::new();
     hasher.update(b"lumis scene hash 1\n");
@@ -38,6 +31,30 @@ pub fn scene_hash(inputs: &[InputFile], load_options: &str) -> io::Result<String
     hasher.update(load_options.as_bytes());
     for d in &digests {
         hasher.update(d.as_bytes());
+    }
+    hex(&hasher.finalize())
+}
+
+/// Each of `inputs` (the path as the reader was given it) with the SHA-256 (lowercase hex) of
+/// its contents, in the order read.
+pub fn file_digests(inputs: &[InputFile]) -> io::Result<Vec<(PathBuf, String)>> {
+    inputs
+        .iter()
+        .map(|input| Ok((input.path.clone(), file_digest(&input.path)?)))
+        .collect()
+}
+
+/// The SHA-256 (lowercase hex) of the file at `path`.
+pub fn file_digest(path: &Path) -> io::Result<String> {
+    let mut file = std::fs::File::open(path)?;
+    let mut hasher = Sha256::new();
+    let mut buffer = vec![0u8; 1 << 16];
+    loop {
+        let n = file.read(&mut buffer)?;
+        if n == 0 {
+            break;
+        }
+        hasher.update(&buffer[..n]);
     }
     Ok(hex(&hasher.finalize()))
 }
@@ -49,7 +66,6 @@ fn hex(bytes: &[u8]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
 
     fn input(path: &Path) -> InputFile {
         InputFile {

@@ -46,11 +46,12 @@ use lumis_core::film::Film;
 
 pub use self::exr::{
     ATTR_EXPOSURE, ATTR_FRAME, ATTR_LENS_RADIUS, ATTR_LENS_SAMPLES, ATTR_LENS_SQUARE, ATTR_PARTIAL,
-    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_SPP,
-    ATTR_SPP_PER_AXIS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_DISPLAY, ATTR_TILE_EXPOSURE,
-    ATTR_TILE_RGBA, AovLayers, ChannelLayout, CryptoHeader, ExrCamera, ExrFile, ExrHeader,
-    ExrImage, ExrMetadata, HeaderValue, ReadError, RenderIdentity, SOFTWARE, TILE_ATTR_PREFIX,
-    TILE_EXPOSURE_AUTO, TileHeader, encode_exr, exr_channels, imath_m44f, read_exr, write_exr,
+    ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_REPLAY, ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS,
+    ATTR_SPP, ATTR_SPP_PER_AXIS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_DISPLAY,
+    ATTR_TILE_EXPOSURE, ATTR_TILE_RGBA, AovLayers, ChannelLayout, CryptoHeader, ExrCamera, ExrFile,
+    ExrHeader, ExrImage, ExrMetadata, HeaderValue, ReadError, RenderIdentity, SOFTWARE,
+    TILE_ATTR_PREFIX, TILE_EXPOSURE_AUTO, TileHeader, encode_exr, exr_channels, imath_m44f,
+    read_exr, write_exr,
 };
 pub use self::frame::numbered_path;
 pub use self::png::{encode_png_with, write_png, write_png_with};

@@ -10,9 +10,11 @@
 
 mod aov;
 mod exposure;
+mod settings_record;
 
 pub use aov::{Aov, aov_layers, pass_request};
 pub use exposure::{SceneOrigin, check_exposure, exposure_to_apply};
+pub use settings_record::settings_record;
 
 use lumis_core::film::DisplayTransform;
 use lumis_core::geometry::Precision;

@@ -9,8 +9,8 @@ use std::collections::BTreeMap;
 use super::tile::TileFile;
 use crate::farm::FarmError;
 use crate::output::{
-    ATTR_FRAME, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS,
-    ATTR_TILE,
+    ATTR_FRAME, ATTR_RENDER_SECONDS, ATTR_RENDERER, ATTR_REPLAY, ATTR_SCENE_HASH, ATTR_SEED,
+    ATTR_SETTINGS, ATTR_TILE,
 };
 use crate::output::{ExrHeader, HeaderValue};
 
@@ -18,7 +18,14 @@ use crate::output::{ExrHeader, HeaderValue};
 /// timing, the manifests (merged). The other tile attributes say how to finish the image and
 /// must agree.
 pub fn varies_per_tile(name: &str) -> bool {
-    name == ATTR_TILE || name == ATTR_RENDER_SECONDS || is_manifest(name)
+    // The replay record holds paths, which may differ from node to node; the merged file
+    // keeps the first tile's.
+    name == ATTR_TILE || name == ATTR_RENDER_SECONDS || name == ATTR_REPLAY || is_manifest(name)
+}
+
+/// Whether a `lumis/settings` value is the JSON record (not an older lumis's text lines).
+pub fn is_settings_record(value: &str) -> bool {
+    serde_json::from_str::<serde_json::Value>(value).is_ok_and(|v| v.is_object())
 }
 
 /// A Cryptomatte manifest attribute (`cryptomatte/<key>/manifest`).
@@ -87,6 +94,17 @@ fn check_same_render(first: &TileFile, tile: &TileFile) -> Result<(), FarmError>
         detail,
     };
     let (a, b) = (first.file.header(), tile.file.header());
+    if let Some(settings) = b.attributes.get(ATTR_SETTINGS)
+        && !is_settings_record(&settings.to_string())
+    {
+        return Err(FarmError::Format {
+            path: tile.path().to_path_buf(),
+            message: format!(
+                "{ATTR_SETTINGS} is the text record of an older lumis, not the JSON one this \
+                 lumis writes and compares: render the tile again with this lumis"
+            ),
+        });
+    }
     if tile.spec().count != first.spec().count {
         return Err(mismatch(
             "the tile count".into(),
@@ -161,10 +179,19 @@ fn custom(h: &ExrHeader) -> BTreeMap<&str, &HeaderValue> {
         .collect()
 }
 
-/// The two values of a differing identity attribute, the settings as their differing lines.
+/// The two values of a differing identity attribute; of two settings records, the keys that
+/// differ.
 fn settings_detail(tile: Option<&HeaderValue>, first: Option<&HeaderValue>) -> String {
     let show = |v: Option<&HeaderValue>| v.map_or("absent".to_string(), |v| v.to_string());
     let (t, f) = (show(tile), show(first));
+    let parse = |s: &str| serde_json::from_str::<serde_json::Value>(s).ok();
+    if let (Some(jt), Some(jf)) = (parse(&t), parse(&f)) {
+        let mut keys = Vec::new();
+        differing_keys("", &jt, &jf, &mut keys);
+        if !keys.is_empty() {
+            return keys.join("; ");
+        }
+    }
     let lines_t: Vec<&str> = t.lines().collect();
     let lines_f: Vec<&str> = f.lines().collect();
     if lines_t.len() > 1 || lines_f.len() > 1 {
@@ -187,4 +214,31 @@ fn settings_detail(tile: Option<&HeaderValue>, first: Option<&HeaderValue>) -> S
         return format!("{} against {}", side(only), side(theirs));
     }
     format!("{t} against {f}")
+}
+
+/// The keys (`flags.--spp`, `render.width`) at which `a` and `b` differ, each with both values.
+fn differing_keys(at: &str, a: &serde_json::Value, b: &serde_json::Value, out: &mut Vec<String>) {
+    use serde_json::Value;
+    match (a, b) {
+        (Value::Object(ma), Value::Object(mb)) => {
+            let keys: std::collections::BTreeSet<&String> = ma.keys().chain(mb.keys()).collect();
+            for k in keys {
+                let path = if at.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{at}.{k}")
+                };
+                match (ma.get(k), mb.get(k)) {
+                    (Some(x), Some(y)) => differing_keys(&path, x, y, out),
+                    (x, y) => out.push(format!(
+                        "{path}: {} against {}",
+                        x.map_or("absent".to_string(), Value::to_string),
+                        y.map_or("absent".to_string(), Value::to_string)
+                    )),
+                }
+            }
+        }
+        _ if a != b => out.push(format!("{at}: {a} against {b}")),
+        _ => {}
+    }
 }

@@ -54,9 +54,9 @@ pub use self::frame::ATTR_FRAME;
 pub use self::header::{ExrHeader, HeaderValue, StandardAttributes};
 pub use self::layout::ChannelLayout;
 pub use self::provenance::{
-    ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_TILE, ATTR_TILE_BEAUTY, ATTR_TILE_DISPLAY,
-    ATTR_TILE_EXPOSURE, ATTR_TILE_RGBA, RenderIdentity, TILE_ATTR_PREFIX, TILE_EXPOSURE_AUTO,
-    TileHeader,
+    ATTR_REPLAY, ATTR_SCENE_HASH, ATTR_SEED, ATTR_SETTINGS, ATTR_TILE, ATTR_TILE_BEAUTY,
+    ATTR_TILE_DISPLAY, ATTR_TILE_EXPOSURE, ATTR_TILE_RGBA, RenderIdentity, TILE_ATTR_PREFIX,
+    TILE_EXPOSURE_AUTO, TileHeader,
 };
 pub use self::read::{ExrFile, ExrImage, MAX_CHANNELS, MAX_SAMPLES, ReadError, read_exr};
 pub use self::write::{encode_exr, exr_channels, write_exr};

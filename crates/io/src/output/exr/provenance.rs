@@ -9,7 +9,8 @@
 //! |-----------------------|--------|------------------------------------------------------|
 //! | `lumis/sceneHash`     | string | SHA-256 of the scene's files and load options (hex)  |
 //! | `lumis/seed`          | string | the sample seed, decimal (EXR has no 64-bit integer) |
-//! | `lumis/settings`      | string | every setting that changes the pixels, `key=value` lines |
+//! | `lumis/settings`      | string | JSON: the pixel flags as given and every render setting |
+//! | `lumis/replay`        | string | JSON: the scene path as given, each input's SHA-256   |
 //! | `lumis/tile`          | string | `I/N`                                                |
 //! | `lumis/tileExposure`  | string | the exposure the merge applies: `auto` or EV         |
 //! | `lumis/tileRgba`      | string | how the merge stores RGBA: `half` or `float`         |
@@ -36,8 +37,13 @@ use lumis_core::scene::limits::MAX_EXPOSURE;
 pub const ATTR_SCENE_HASH: &str = "lumis/sceneHash";
 /// String attribute: the seed of the sample streams, in decimal.
 pub const ATTR_SEED: &str = "lumis/seed";
-/// String attribute: the settings that change the pixels, one `key=value` per line.
+/// String attribute: the settings that change the pixels, a JSON object (`flags`: the
+/// command's pixel flags as given; `render`: every render setting, by TOML key).
 pub const ATTR_SETTINGS: &str = "lumis/settings";
+/// String attribute: what `lumis render --from` needs besides the settings, a JSON object
+/// (`scene`: the path as given, `null` for the built-in scene; `inputs`: path to SHA-256 of
+/// every file read). Not compared by the merge (paths may differ from node to node).
+pub const ATTR_REPLAY: &str = "lumis/replay";
 /// String attribute of a tile: `I/N`.
 pub const ATTR_TILE: &str = "lumis/tile";
 /// String attribute of a tile: the exposure for the merge to apply, `auto` or stops.
@@ -59,8 +65,10 @@ pub struct RenderIdentity {
     pub scene_hash: String,
     /// The seed of the sample streams.
     pub seed: u64,
-    /// The settings that change the pixels, `key=value` lines.
+    /// The settings that change the pixels (JSON, see [`ATTR_SETTINGS`]).
     pub settings: String,
+    /// What a replay needs besides (JSON, see [`ATTR_REPLAY`]); `None` where there is none.
+    pub replay: Option<String>,
 }
 
 /// What makes an EXR a farm tile rather than a finished image.
@@ -96,6 +104,9 @@ pub(super) fn attributes(
         out.push((ATTR_SCENE_HASH, text(&id.scene_hash)));
         out.push((ATTR_SEED, text(&id.seed.to_string())));
         out.push((ATTR_SETTINGS, text(&id.settings)));
+        if let Some(replay) = &id.replay {
+            out.push((ATTR_REPLAY, text(replay)));
+        }
     }
     if let Some(tile) = tile {
         // Rust prints the shortest decimal that parses back to the same f32.
@@ -132,6 +143,7 @@ pub(super) fn read_identity(header: &Header) -> Result<Option<RenderIdentity>, S
                 .parse()
                 .map_err(|_| format!("{ATTR_SEED} = {seed:?}: expected a decimal seed"))?,
             settings,
+            replay: text(header, ATTR_REPLAY),
         })),
         _ => Err(format!(
             "{ATTR_SCENE_HASH}, {ATTR_SEED} and {ATTR_SETTINGS}: expected all three or none"
