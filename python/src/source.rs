@@ -5,7 +5,6 @@
 //! instance matrices), which rebuild it exactly.
 
 use std::collections::BTreeMap;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use lumis_core::scene::Scene;
@@ -15,7 +14,6 @@ use numpy::ndarray::{Array1, Array2};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use sha2::{Digest, Sha256};
 
 use crate::errors::SceneError;
 
@@ -48,24 +46,8 @@ pub enum Source {
     Arrays(Vec<Step>),
 }
 
-/// SHA-256 of the file at `path`, lowercase hex.
-pub fn file_digest(path: &Path) -> std::io::Result<String> {
-    let mut file = std::fs::File::open(path)?;
-    let mut hasher = Sha256::new();
-    let mut buffer = vec![0u8; 1 << 16];
-    loop {
-        let n = file.read(&mut buffer)?;
-        if n == 0 {
-            break;
-        }
-        hasher.update(&buffer[..n]);
-    }
-    Ok(hasher
-        .finalize()
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect())
-}
+/// SHA-256 of the file at `path`, lowercase hex (the digest `lumis/replay` records too).
+pub use lumis_io::farm::file_digest;
 
 /// The absolute path (made so now, against the current directory, as the load read it) and
 /// digest of each of `inputs`, or a [`SceneError`] naming the file that cannot be read.
