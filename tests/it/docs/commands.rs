@@ -202,3 +202,76 @@ fn the_cli_reference_is_the_binarys_help() {
         Path::new("docs/cli-reference.md").display()
     );
 }
+
+/// How the docs' shell commands that are not `lumis` commands start, and why no test runs
+/// them as written (each is covered elsewhere or needs what a test machine lacks).
+const NOT_RUN: [(&str, &str); 13] = [
+    ("[", "the continuation of a synopsis"),
+    (
+        "sbatch",
+        "needs Slurm; CI runs tools/test_slurm.sh on a real single-node cluster",
+    ),
+    ("kubectl", "needs Kubernetes"),
+    (
+        "tev",
+        "a viewer with a window; tests/it/live_view plays the viewer",
+    ),
+    (
+        "O=/tmp/orig;",
+        "builds the paper's original program, outside the repository",
+    ),
+    (
+        ".venv/bin/python",
+        "the tools in their venv, which CI runs step by step",
+    ),
+    (".venv/bin/pip", "installs the Python package, as CI does"),
+    ("python3 -m venv", "makes the venv, as CI does"),
+    ("cargo", "builds and tests, as CI does"),
+    (
+        "fuzz/make_corpus.sh",
+        "the fuzz corpus; CI runs every fuzz target",
+    ),
+    (
+        "cd fuzz",
+        "fuzzing for minutes with the nightly toolchain; CI runs every fuzz target",
+    ),
+    (
+        "LUMIS_QUERIES_",
+        "fuzzing for minutes with the nightly toolchain",
+    ),
+    (
+        "QUERY_FUZZ_REPLAY=",
+        "replays fuzzing's artifacts, which a clean checkout has none of",
+    ),
+];
+
+#[test]
+fn every_other_docs_command_is_listed_with_why_it_is_not_run() {
+    let mut unlisted = Vec::new();
+    let docs = super::documents();
+    for doc in docs.iter().filter(|d| d.starts_with(repo().join("docs"))) {
+        let text = std::fs::read_to_string(doc).unwrap();
+        let (mut in_sh, mut continued) = (false, false);
+        for line in text.lines() {
+            if line.starts_with("```") {
+                in_sh = line == "```sh";
+                continue;
+            }
+            let command = line.trim();
+            let was_continued = std::mem::replace(&mut continued, command.ends_with('\\'));
+            if !in_sh || was_continued || command.is_empty() || command.starts_with('#') {
+                continue;
+            }
+            let lumis =
+                command.starts_with("lumis ") || command.starts_with("cargo run --release --");
+            if !lumis && !NOT_RUN.iter().any(|(start, _)| command.starts_with(start)) {
+                unlisted.push(format!("{}: {command}", doc.display()));
+            }
+        }
+    }
+    assert!(
+        unlisted.is_empty(),
+        "docs commands no test runs and NOT_RUN does not list:\n{}",
+        unlisted.join("\n")
+    );
+}

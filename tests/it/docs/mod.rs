@@ -74,3 +74,48 @@ fn every_relative_link_resolves() {
         broken.join("\n")
     );
 }
+
+/// Paths of this repository quoted in `code` spans (`` `crates/core/src/...` ``) that name
+/// nothing: the docs drift when files move. Not checked: patterns (`*`, `<`, `NAME`), and paths of
+/// other projects, listed here with where they belong.
+#[test]
+fn every_quoted_repository_path_exists() {
+    const OTHERS: [&str; 3] = [
+        "src/Ipc.cpp",         // tev's source (docs/live-view.md)
+        "tests/test_ray.py",   // trimesh's own tests (docs/python.md)
+        "fuzz/corpus/queries", // made by fuzz/make_corpus.sh
+    ];
+    const ROOTS: [&str; 10] = [
+        "tests/",
+        "crates/",
+        "src/",
+        "tools/",
+        "python/",
+        "scenes/",
+        "assets/",
+        "fuzz/",
+        "benches/",
+        "examples/",
+    ];
+    let mut missing = Vec::new();
+    for doc in documents() {
+        let text = std::fs::read_to_string(&doc).unwrap();
+        for span in text.split('`').skip(1).step_by(2) {
+            let path = span.trim_end_matches('/');
+            let is_path = ROOTS.iter().any(|r| path.starts_with(r))
+                && !path.contains(['*', '<', ' ', '#'])
+                && !path.contains("NAME")
+                && !OTHERS.contains(&path);
+            // tools/README.md names its files from tools/ or from the repository root.
+            let exists = repo().join(path).exists() || repo().join("tools").join(path).exists();
+            if is_path && !exists {
+                missing.push(format!("{}: {path}", doc.display()));
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "quoted paths that name nothing:\n{}",
+        missing.join("\n")
+    );
+}
