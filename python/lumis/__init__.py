@@ -17,6 +17,7 @@ docs/python.md.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 from dataclasses import dataclass
@@ -179,6 +180,10 @@ class Image(Dict[str, npt.NDArray[Any]]):
     exposure: float
     #: Whether it was computed from the image (glTF and OBJ files without `exposure=`).
     auto_exposure: bool
+    #: What `lumis render` records in the EXR's `lumis/settings` for the same render: `flags`
+    #: (the command-line flags that ask for it) and `render` (every render setting, by its
+    #: TOML key). `None` for a scene built from arrays, which no command can render again.
+    settings: Optional[Dict[str, Any]]
 
     def rgba(self) -> npt.NDArray[Any]:
         """`(H, W, 4)` RGBA as stored (in either layout)."""
@@ -409,8 +414,10 @@ class Scene:
         files automatic (as the command). `path`: also write the image to these files (`.exr`
         or `.png` by extension; the PNG through `tonemap` ("none", "filmic") and `display`
         ("srgb", "clamp"; default the scene's)), each replaced only once all were encoded. The
-        EXR's pixels are the command's; its header lacks the command's provenance attributes
-        (`lumis/sceneHash`, `lumis/seed`, `lumis/settings`). The image does not depend on
+        EXR's pixels are the command's; for a scene loaded from a file its header also has the
+        command's provenance (`lumis/sceneHash`, `lumis/seed`, `lumis/settings` with the flags
+        that ask for the same render, `lumis/replay`), so `lumis render --from` renders the file
+        again (a scene from arrays records none). The image does not depend on
         `threads`. Raises `SceneError` if the render cannot run (a setting out of range).
 
         `display_server`: "[HOST:]PORT" of a viewer that speaks tev's protocol (tev listens on
@@ -435,6 +442,7 @@ class Scene:
             image[name] = plane.view(np.float16) if plane.dtype == np.uint16 else plane
         image.exposure = r["exposure"]
         image.auto_exposure = r["auto_exposure"]
+        image.settings = None if r["settings"] is None else json.loads(r["settings"])
         return image
 
 

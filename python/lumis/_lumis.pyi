@@ -70,6 +70,7 @@ class _Rendered(TypedDict):
     channels: Dict[str, npt.NDArray[Union[np.uint16, np.float32, np.uint32]]]
     exposure: float
     auto_exposure: bool
+    settings: Optional[str]
 
 @final
 class Scene:

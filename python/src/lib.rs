@@ -14,6 +14,7 @@ mod contains;
 mod errors;
 mod frame;
 mod hits;
+mod provenance;
 mod rays;
 mod render;
 mod scene;

@@ -72,6 +72,13 @@ pub fn render<'py>(
         display: st.display,
     };
     let aov_layers = aov_layers(&request.aovs, s.geometry().has_instances());
+    // A file's render records what made it, as the command does; an array scene has no file
+    // to record.
+    let identity = scene
+        .file_source()
+        .map(|file| crate::provenance::identity(file, request, s.settings()))
+        .transpose()?;
+    let settings_json = identity.as_ref().map(|id| id.settings.clone());
     let opts = RenderOptions {
         seed: request.seed,
         threads: worker_threads(request.threads).0,
@@ -120,6 +127,7 @@ pub fn render<'py>(
             aov_layers,
             layout: request.layout,
             frame: scene.frame(),
+            identity,
             ..ExrMetadata::default()
         };
         let paths: Vec<&Path> = request.paths.iter().map(PathBuf::as_path).collect();
@@ -174,6 +182,7 @@ pub fn render<'py>(
     out.set_item("channels", arrays)?;
     out.set_item("exposure", exposure)?;
     out.set_item("auto_exposure", auto)?;
+    out.set_item("settings", settings_json)?;
     Ok(out)
 }
 

@@ -47,6 +47,14 @@ impl PyScene {
     }
 
     /// The file the scene was loaded from (as given), `None` for a scene from arrays.
+    /// Where a scene loaded from a file came from; `None` for one built from arrays.
+    pub fn file_source(&self) -> Option<&source::FileSource> {
+        match &self.source {
+            Source::File(f) => Some(f),
+            Source::Arrays(_) => None,
+        }
+    }
+
     pub fn file(&self) -> Option<&Path> {
         match &self.source {
             Source::File(f) => Some(&f.given),

@@ -5,6 +5,8 @@ independent of the thread count."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -136,3 +138,44 @@ def test_an_environment_from_defines_renders_as_the_cli(cli, tmp_path):
         total = sum(image[f"{p}.{c}"] for p in paths)
         assert np.allclose(total, image[c], rtol=1e-5, atol=1e-6), c
     assert image["background.B"].max() > 0.1  # the sky is seen around the knot
+
+
+def header(path):
+    """The custom string attributes of an EXR, by name."""
+    inp = oiio.ImageInput.open(str(path))
+    spec = inp.spec()
+    inp.close()
+    return {a.name: a.value for a in spec.extra_attribs if a.name.startswith("lumis/")}
+
+
+@pytest.mark.parametrize(
+    "path,load,kwargs,flags",
+    [
+        (SCENES / "default.toml", {"render.max_depth": 3},
+         dict(width=40, height=24, spp=2, aovs=["albedo"], exposure=-0.5, seed=3),
+         ["-D", "render.max_depth=3", "--width", "40", "--height", "24", "--spp", "2",
+          "--aov", "albedo", "--exposure", "-0.5", "--seed", "3"]),
+        (ASSETS / "gltf" / "materials.gltf", {},
+         dict(width=32, height=32, spp=1, layout="blender", float_rgba=True),
+         ["--width", "32", "--height", "32", "--spp", "1", "--layout", "blender", "--float"]),
+    ],
+    ids=["toml", "gltf"],
+)
+def test_a_file_render_records_what_the_command_records(cli, tmp_path, path, load, kwargs, flags):
+    scene = lumis.load(path, **load)
+    image = scene.render(**kwargs, path=tmp_path / "py.exr")
+    run_cli(cli, "render", path, "-o", tmp_path / "cli.exr", "--quiet", *flags)
+    py, cmd = header(tmp_path / "py.exr"), header(tmp_path / "cli.exr")
+    # The same render: the same scene hash, seed and settings record as the command's.
+    for name in ("lumis/sceneHash", "lumis/seed", "lumis/settings"):
+        assert py[name] == cmd[name], name
+    assert image.settings == json.loads(cmd["lumis/settings"])
+    # And the command renders Python's file again, byte for byte.
+    run_cli(cli, "render", "--from", tmp_path / "py.exr", "-o", tmp_path / "again.exr", "--quiet")
+    assert (tmp_path / "again.exr").read_bytes() == (tmp_path / "py.exr").read_bytes()
+
+
+def test_a_scene_from_arrays_records_no_settings():
+    v = np.array([[0, 0, -2], [1, 0, -2], [0, 1, -2]], float)
+    image = lumis.Scene.from_arrays(v, np.array([[0, 1, 2]])).render(8, 8, 1)
+    assert image.settings is None

@@ -9,7 +9,7 @@
 use super::RenderArgs;
 use anyhow::{Context, Result};
 use clap::ArgMatches;
-use lumis_core::scene::Settings;
+use lumis_core::scene::{Settings, UpAxis};
 use lumis_io::files::InputFile;
 use lumis_io::output::RenderIdentity;
 use lumis_io::request::settings_record;
@@ -52,26 +52,21 @@ impl RenderArgs {
     }
 
     /// Everything besides the files that decides what is loaded (the `--env` flags among the
-    /// defines they stand for).
+    /// defines they stand for), as Python's renders write it too.
     fn load_options(&self) -> Result<String> {
-        let source = if self.scene.is_some() {
-            "file"
-        } else {
-            "the built-in default scene"
+        let options = lumis_io::formats::LoadOptions {
+            scene: self.gltf_scene,
+            camera: self.camera,
+            up: self.up.map(UpAxis::from).unwrap_or_default(),
+            auto_camera: self.auto_camera,
+            frame: None,
+            flatten_instances: self.flatten_instances,
         };
-        // Only when given: renders without it keep the identity they always had.
-        let flattened = if self.flatten_instances {
-            "flatten instances: true\n"
-        } else {
-            ""
-        };
-        Ok(format!(
-            "source: {source}\ndefines: {:?}\ngltf scene: {:?}\ncamera: {:?}\nauto camera: {}\nup: {:?}\n{flattened}",
-            self.defines()?,
-            self.gltf_scene,
-            self.camera,
-            self.auto_camera,
-            self.up,
+        let defines = self.defines()?;
+        Ok(lumis_io::farm::load_options_text(
+            self.scene.is_some(),
+            &defines,
+            &options,
         ))
     }
 }

@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use sha2::{Digest, Sha256};
 
 use crate::files::InputFile;
+use crate::formats::{LoadOptions, Override};
 
 /// SHA-256 (lowercase hex) over the contents of `inputs` and `load_options` (a text the caller
 /// makes of every option that changes what is loaded: `-D` overrides, glTF scene and camera
@@ -33,6 +34,31 @@ pub fn scene_hash_of(mut digests: Vec<String>, load_options: &str) -> String {
         hasher.update(d.as_bytes());
     }
     hex(&hasher.finalize())
+}
+
+/// The text of the load options that [`scene_hash`] hashes: what decides what is loaded
+/// besides the files (`from_file`: a scene file rather than the built-in scene), one
+/// `name: value` per line, the same for the command line and Python.
+pub fn load_options_text(from_file: bool, defines: &[Override], o: &LoadOptions) -> String {
+    let source = if from_file {
+        "file"
+    } else {
+        "the built-in default scene"
+    };
+    let defines: Vec<String> = defines.iter().map(ToString::to_string).collect();
+    let or = |v: Option<usize>, none: &str| v.map_or(none.to_string(), |n| n.to_string());
+    let mut text = format!(
+        "source: {source}\ndefines: {}\ngltf scene: {}\ncamera: {}\nauto camera: {}\nup: {}\n",
+        defines.join("; "),
+        or(o.scene, "default"),
+        or(o.camera, "first"),
+        o.auto_camera,
+        o.up.name()
+    );
+    if o.flatten_instances {
+        text.push_str("flatten instances: true\n");
+    }
+    text
 }
 
 /// Each of `inputs` (the path as the reader was given it) with the SHA-256 (lowercase hex) of

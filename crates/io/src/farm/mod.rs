@@ -20,5 +20,5 @@ pub mod identity;
 pub mod merge;
 
 pub use self::error::FarmError;
-pub use self::identity::{file_digest, file_digests, scene_hash, scene_hash_of};
+pub use self::identity::{file_digest, file_digests, load_options_text, scene_hash, scene_hash_of};
 pub use self::merge::merge_tiles;
