@@ -27,7 +27,7 @@ def test_dependencies_are_the_pinned_requirements():
 
 def test_scripts_are_entry_points_of_modules_with_cli():
     scripts = sorted(p for p in TOOLS.glob("*.py"))
-    assert len(scripts) == 19
+    assert len(scripts) == 21
     for script in scripts:
         tree = ast.parse(script.read_text())
         imports = [n for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
