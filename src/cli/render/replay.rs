@@ -84,6 +84,10 @@ fn replay_args(image: &Path) -> Result<Vec<String>> {
         .and_then(|r| serde_json::from_str(&r).ok())
         .ok_or_else(|| anyhow!("--from {shown}: no readable {ATTR_REPLAY} record"))?;
     for (path, digest) in &replay.inputs {
+        // A header is the file's word only: a device or FIFO named there is never read.
+        if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+            bail!("--from {shown}: its input {path} is not a regular file");
+        }
         match lumis_io::farm::file_digest(Path::new(path)) {
             Ok(now) if now == *digest => {}
             Ok(_) => bail!("--from {shown}: its input {path} has changed since the image was made"),

@@ -49,6 +49,20 @@ fn a_changed_or_missing_input() {
         &["render", "--from", "a.exr", "-o", "b.exr"],
         &["a.exr", "sphere.toml", "changed"],
     );
+    // A header that names a device as an input: refused, never read (it would never end).
+    let image = dir.path().join("a.exr");
+    let mut exr = read_exr(&image);
+    let replay = r#"{"inputs":{"/dev/zero":"00"},"scene":"sphere.toml"}"#;
+    exr.layer_data[0].attributes.other.insert(
+        Text::from("lumis/replay"),
+        AttributeValue::Text(Text::from(replay)),
+    );
+    exr.write().to_file(dir.path().join("dev.exr")).unwrap();
+    refused_with(
+        dir.path(),
+        &["render", "--from", "dev.exr", "-o", "b.exr"],
+        &["dev.exr", "/dev/zero", "not a regular file"],
+    );
     std::fs::remove_file(&scene).unwrap();
     refused_with(
         dir.path(),
