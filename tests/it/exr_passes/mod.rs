@@ -58,14 +58,7 @@ pub fn at(x: usize, y: usize) -> usize {
 }
 
 /// The channel names of the first layer, sorted (as EXR stores them).
-pub fn names(image: &FlatImage) -> Vec<String> {
-    image.layer_data[0]
-        .channel_data
-        .list
-        .iter()
-        .map(|c| c.name.to_string())
-        .collect()
-}
+pub use crate::common::exr::channel_names as names;
 
 /// Row vector `p` times an Imath row-major M44f, as a compositor applies the header matrices.
 pub fn row_times_m44f(p: [f32; 4], m: &[f32; 16]) -> [f32; 4] {
